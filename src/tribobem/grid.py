@@ -1,0 +1,132 @@
+"""The computational grid: nx x ny cells of size dx x dy, fields indexed ``[ix, iy]``."""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from .errors import InputError, MemoryBudgetError
+
+#: Fraction of the available memory a single solve may plan to use.
+MEMORY_FRACTION = 0.8
+
+
+def available_memory() -> int:
+    """Bytes of memory available to this process (falls back to 8 GiB if unknown)."""
+    try:
+        import psutil
+
+        return int(psutil.virtual_memory().available)
+    except Exception:  # pragma: no cover - psutil is a dask dependency, normally present
+        try:
+            return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_AVPHYS_PAGES")  # noqa: F821
+        except Exception:
+            return 8 << 30
+
+
+@dataclass(frozen=True)
+class Grid:
+    """A regular grid of cell centres.
+
+    Parameters
+    ----------
+    nx, ny : int
+        Number of cells along x and y.
+    lx, ly : float
+        Side lengths in m.
+    periodic : bool
+        True: the domain is one cell of a periodic surface (spectral operator).
+        False: free boundary (zero-padded DC-FFT operator).
+
+    Notes
+    -----
+    Cell centres are at ``x_i = (i + 1/2) dx - lx/2`` so the domain is centred on 0; a
+    sphere generated on the grid is centred between the four middle cells for even n.
+    """
+
+    nx: int
+    ny: int
+    lx: float
+    ly: float
+    periodic: bool = False
+
+    def __post_init__(self):
+        for name, n in (("grid.nx", self.nx), ("grid.ny", self.ny)):
+            if not isinstance(n, (int, np.integer)) or n < 2:
+                raise InputError(name, f"number of cells must be an integer >= 2, got {n!r}")
+        for name, length in (("grid.lx", self.lx), ("grid.ly", self.ly)):
+            if not (isinstance(length, (int, float)) and math.isfinite(length) and length > 0):
+                raise InputError(name, f"side length must be a finite value > 0 m, got {length!r}")
+
+    @classmethod
+    def square(cls, n: int, size: float, periodic: bool = False) -> "Grid":
+        """An n x n grid of side ``size`` (m)."""
+        return cls(n, n, size, size, periodic)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.nx, self.ny)
+
+    @property
+    def dx(self) -> float:
+        return self.lx / self.nx
+
+    @property
+    def dy(self) -> float:
+        return self.ly / self.ny
+
+    @property
+    def cell_area(self) -> float:
+        """dx * dy in m^2."""
+        return self.dx * self.dy
+
+    @property
+    def area(self) -> float:
+        """Nominal area lx * ly in m^2."""
+        return self.lx * self.ly
+
+    @cached_property
+    def x(self) -> np.ndarray:
+        """Cell-centre x coordinates (m), shape (nx,)."""
+        return (np.arange(self.nx) + 0.5) * self.dx - 0.5 * self.lx
+
+    @cached_property
+    def y(self) -> np.ndarray:
+        """Cell-centre y coordinates (m), shape (ny,)."""
+        return (np.arange(self.ny) + 0.5) * self.dy - 0.5 * self.ly
+
+    def meshgrid(self) -> tuple[np.ndarray, np.ndarray]:
+        """X, Y arrays of shape (nx, ny) (``indexing='ij'``)."""
+        return np.meshgrid(self.x, self.y, indexing="ij")
+
+    def radius(self) -> np.ndarray:
+        """Distance of every cell centre from the domain centre (m)."""
+        X, Y = self.meshgrid()
+        return np.hypot(X, Y)
+
+    def estimate_bytes(self, n_fields: int = 12, n_components: int = 1) -> int:
+        """Rough peak memory (bytes) of a solve on this grid.
+
+        ``n_fields`` full-size float64 work arrays plus the cached kernel spectra and FFT
+        buffers (on the padded 2nx x 2ny grid for the free-boundary operator).
+        """
+        pad = 1 if self.periodic else 4
+        cells = self.nx * self.ny
+        fields = n_fields * cells * 8 * n_components
+        kernels = n_components**2 * pad * cells * 16 // 2 + 3 * pad * cells * 16
+        return int(fields + kernels)
+
+    def check_memory(self, n_fields: int = 12, n_components: int = 1, budget: int | None = None) -> None:
+        """Raise :class:`MemoryBudgetError` if a solve would not fit in memory."""
+        need = self.estimate_bytes(n_fields, n_components)
+        have = int((budget if budget is not None else available_memory()) * MEMORY_FRACTION)
+        if need > have:
+            raise MemoryBudgetError(
+                f"grid {self.nx} x {self.ny} ({'periodic' if self.periodic else 'free boundary'}) "
+                f"needs about {need / 2**30:.1f} GiB but only {have / 2**30:.1f} GiB may be used; "
+                "reduce grid.n or use a periodic grid"
+            )

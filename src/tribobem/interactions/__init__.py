@@ -1,0 +1,17 @@
+"""Surface interactions: stresses that act where the bodies are *not* in contact.
+
+An interaction tells the normal solver two things (the one interface every term uses):
+
+* ``floor`` (Pa, <= 0): the lowest pressure a contact node may carry (``-sigma0`` for
+  Dugdale adhesion, 0 without adhesion);
+* ``outside_stress(gap, xp)``: the traction (Pa, negative = tensile) on a non-contact node
+  whose gap is ``gap``.
+
+New physics (capillary bridges, water-solid van der Waals) is a new file here implementing
+this protocol, not a copy of the solver.
+"""
+
+from .base import Interaction, NoInteraction
+from .dugdale import DugdaleAdhesion
+
+__all__ = ["Interaction", "NoInteraction", "DugdaleAdhesion"]

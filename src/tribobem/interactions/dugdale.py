@@ -1,0 +1,87 @@
+"""Dugdale (Maugis) cohesive-zone approximation of the Lennard-Jones adhesion.
+
+A constant tensile stress ``-sigma0`` acts where 0 < g < h0, nothing beyond (Paper A
+Eq. 13), with ``sigma0 = 16 dgamma / (9 sqrt(3) z0)`` and ``h0 = dgamma / sigma0 =
+9 sqrt(3) z0 / 16 = 0.974 z0`` (SPEC 5; Paper D misprints h0 as 9 sqrt(3) z0).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..errors import InputError
+
+
+@dataclass(frozen=True)
+class DugdaleAdhesion:
+    """Dugdale adhesion law.
+
+    Parameters
+    ----------
+    work_of_adhesion : float
+        Delta gamma in J/m^2 (> 0).
+    z0 : float
+        Equilibrium separation of the Lennard-Jones potential in m (> 0), typically
+        0.2-0.4 nm.
+    """
+
+    work_of_adhesion: float
+    z0: float
+
+    def __post_init__(self):
+        if not (math.isfinite(self.work_of_adhesion) and self.work_of_adhesion > 0):
+            raise InputError("adhesion.work_of_adhesion", f"must be > 0 J/m^2, got {self.work_of_adhesion!r}")
+        if not (math.isfinite(self.z0) and self.z0 > 0):
+            raise InputError("adhesion.z0", f"must be > 0 m, got {self.z0!r}")
+
+    @classmethod
+    def from_stress(cls, sigma0: float, h0: float) -> "DugdaleAdhesion":
+        """Build from the Dugdale stress (Pa) and range (m) directly."""
+        return cls(sigma0 * h0, h0 * 16.0 / (9.0 * math.sqrt(3.0)))
+
+    @property
+    def sigma0(self) -> float:
+        """Dugdale stress sigma0 = 16 dgamma / (9 sqrt3 z0), Pa."""
+        return 16.0 * self.work_of_adhesion / (9.0 * math.sqrt(3.0) * self.z0)
+
+    @property
+    def h0(self) -> float:
+        """Range of the cohesive zone h0 = dgamma / sigma0 = 9 sqrt3 z0 / 16, m."""
+        return self.work_of_adhesion / self.sigma0
+
+    @property
+    def range(self) -> float:
+        return self.h0
+
+    @property
+    def floor(self) -> float:
+        return -self.sigma0
+
+    def outside_stress(self, gap, xp):
+        """-sigma0 where gap < h0, else 0 (Pa)."""
+        return xp.where(gap < self.h0, -self.sigma0, 0.0)
+
+    def tabor_parameter(self, radius: float, effective_modulus: float) -> float:
+        """mu_T = (R dgamma^2 / (E*^2 z0^3))^(1/3) (SPEC 5 corrects Paper A Eq. 1)."""
+        return (radius * self.work_of_adhesion**2 / (effective_modulus**2 * self.z0**3)) ** (1.0 / 3.0)
+
+    def maugis_parameter(self, radius: float, effective_modulus: float) -> float:
+        """lambda = 2 sigma0 (9 R / (16 pi dgamma E*^2))^(1/3) (about 1.16 mu_T)."""
+        return 2.0 * self.sigma0 * (9.0 * radius / (16.0 * math.pi * self.work_of_adhesion * effective_modulus**2)) ** (1.0 / 3.0)
+
+    @classmethod
+    def from_tabor(cls, tabor: float, radius: float, effective_modulus: float, z0: float) -> "DugdaleAdhesion":
+        """The work of adhesion that gives Tabor parameter ``tabor`` for this sphere."""
+        dgamma = math.sqrt(tabor**3 * effective_modulus**2 * z0**3 / radius)
+        return cls(dgamma, z0)
+
+    @classmethod
+    def from_maugis(cls, lam: float, radius: float, effective_modulus: float, z0: float) -> "DugdaleAdhesion":
+        """The work of adhesion that gives Maugis parameter ``lam`` for this sphere.
+
+        lambda = 2 (16/(9 sqrt3)) (dgamma/z0) (9R/(16 pi dgamma E*^2))^(1/3) is
+        proportional to dgamma^(2/3), so dgamma follows in closed form.
+        """
+        k = 2.0 * 16.0 / (9.0 * math.sqrt(3.0) * z0) * (9.0 * radius / (16.0 * math.pi * effective_modulus**2)) ** (1.0 / 3.0)
+        return cls((lam / k) ** 1.5, z0)
