@@ -60,6 +60,7 @@ def solve_normal(
     tol: float = 1e-10,
     max_iterations: int = 10000,
     initial_pressure=None,
+    initial_contact=None,
     strict: bool = False,
 ) -> NormalResult:
     """Solve a normal contact problem, with or without adhesion.
@@ -83,8 +84,13 @@ def solve_normal(
     tol : float
         Tolerance on the relative pressure change per iteration.
     max_iterations : int
-    initial_pressure : array_like, optional
-        Warm start (Pa), e.g. the pressure of the previous load step.
+    initial_pressure : array_like or NormalResult, optional
+        Warm start (Pa), e.g. the pressure of the previous load step (a
+        :class:`NormalResult` gives both its pressure and its contact mask).
+    initial_contact : array_like of bool, optional
+        Contact mask that goes with ``initial_pressure``; by default the nodes with
+        p > floor (with adhesion, pass it: a node at p = 0 outside the cohesive zone is
+        otherwise taken as in contact for the first iteration).
     strict : bool
         Raise :class:`~tribobem.errors.ConvergenceError` instead of warning when the solver
         does not converge.
@@ -127,6 +133,9 @@ def solve_normal(
         h_eff = h - approach
 
     # Step 1: initial pressure.
+    if isinstance(initial_pressure, NormalResult):
+        initial_contact = initial_pressure.contact if initial_contact is None else initial_contact
+        initial_pressure = initial_pressure.pressure
     if initial_pressure is not None:
         p = xp.array(initial_pressure, dtype=float)
         if p.shape != grid.shape:
@@ -136,7 +145,12 @@ def solve_normal(
         p = xp.full(grid.shape, target / h.size)
     else:
         p = xp.zeros(grid.shape)
-    contact = p > floor if (force_control or initial_pressure is not None) else xp.zeros(grid.shape, dtype=bool)
+    if initial_contact is not None:
+        contact = xp.asarray(initial_contact, dtype=bool) & (p > floor)
+    elif force_control or initial_pressure is not None:
+        contact = p > floor
+    else:
+        contact = xp.zeros(grid.shape, dtype=bool)
 
     tau0 = 1.0 / _self_compliance(op)
     t = xp.zeros(grid.shape)

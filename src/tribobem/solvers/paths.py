@@ -1,0 +1,385 @@
+"""Load paths: force-approach curves (loading and unloading), jumps, pull-off, hysteresis.
+
+Under displacement control the approach is stepped and every step is warm-started from the
+previous one, so the solver follows a branch until it ends; the jump to another branch shows
+as a discontinuity of the contact area (jump-in on loading, jump-off on unloading).
+Displacement control traces the unstable force branch that force control cannot reach, so
+the pull-off force (the most negative force on the curve, Papers A and C) is taken from it
+by default.  Under force control the unloading stops at the last force with an
+equilibrium: that force is the force-controlled pull-off (jump-off).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from ..elasticity.operators import ConvolutionOperator
+from ..errors import ConvergenceWarning, InputError
+from ..results import NormalResult
+from .normal import solve_normal
+
+#: Relative change of the contact area between two steps that counts as a jump.
+JUMP_THRESHOLD = 0.25
+
+
+@dataclass
+class LoadCurve:
+    """A force-approach curve with its loading and unloading branches.
+
+    Attributes
+    ----------
+    control : {"displacement", "force"}
+    branch : ndarray of str
+        "loading" or "unloading" for each point.
+    approach, force : ndarray
+        Rigid approach (m) and total normal force (N) of each point.
+    contact_area, adhesive_area : ndarray
+        m^2.
+    repulsive_force, adhesive_force : ndarray
+        F0+ and F0- (N).
+    iterations : ndarray of int
+    converged : ndarray of bool
+    jumps : list of dict
+        ``{"index", "branch", "kind" ("jump-in" | "jump-off"), "approach", "force"}``.
+    results : list of NormalResult
+        Full fields per point (only when ``keep_fields=True``; else empty).
+    """
+
+    control: str
+    branch: np.ndarray
+    approach: np.ndarray
+    force: np.ndarray
+    contact_area: np.ndarray
+    adhesive_area: np.ndarray
+    repulsive_force: np.ndarray
+    adhesive_force: np.ndarray
+    iterations: np.ndarray
+    converged: np.ndarray
+    jumps: list = field(default_factory=list)
+    results: list = field(default_factory=list)
+    steps: list = field(default_factory=list)
+
+    @property
+    def pull_off_force(self) -> float:
+        """Most negative force on the curve (N); 0 if the curve has no tensile point."""
+        ok = self.converged
+        if not np.any(ok):
+            return float("nan")
+        return float(min(np.min(self.force[ok]), 0.0))
+
+    @property
+    def pull_off_approach(self) -> float:
+        ok = np.where(self.converged)[0]
+        if not len(ok):
+            return float("nan")
+        return float(self.approach[ok[np.argmin(self.force[ok])]])
+
+    def branch_mask(self, name: str) -> np.ndarray:
+        return self.branch == name
+
+    @property
+    def hysteresis_energy(self) -> float:
+        """Energy (J) lost over the load cycle: the area between the loading and unloading
+        force-approach branches, integral of (F_loading - F_unloading) d(delta) over the
+        approaches both branches cover (displacement control)."""
+        lo, un = self.branch_mask("loading") & self.converged, self.branch_mask("unloading") & self.converged
+        if lo.sum() < 2 or un.sum() < 2:
+            return float("nan")
+        dl, fl = self.approach[lo], self.force[lo]
+        du, fu = self.approach[un], self.force[un]
+        order_l, order_u = np.argsort(dl), np.argsort(du)
+        dl, fl, du, fu = dl[order_l], fl[order_l], du[order_u], fu[order_u]
+        grid = np.union1d(dl, du)
+        grid = grid[(grid >= max(dl[0], du[0])) & (grid <= min(dl[-1], du[-1]))]
+        if len(grid) < 2:
+            return float("nan")
+        diff = np.interp(grid, dl, fl) - np.interp(grid, du, fu)
+        return float(np.sum(0.5 * (diff[1:] + diff[:-1]) * np.diff(grid)))
+
+    def scalars(self) -> list[dict]:
+        """One summary.json step entry per point (SPEC 9.1 keys)."""
+        return self.steps
+
+
+def _record(curve_rows: list, res: NormalResult, branch: str, keep: bool, store: list):
+    row = res.scalars()
+    row["branch"] = branch
+    curve_rows.append(row)
+    if keep:
+        store.append(res)
+
+
+def _assemble(control: str, rows: list, store: list) -> LoadCurve:
+    def col(k, dtype=float):
+        return np.array([r[k] for r in rows], dtype=dtype)
+
+    curve = LoadCurve(
+        control=control,
+        branch=np.array([r["branch"] for r in rows], dtype=object),
+        approach=col("approach"),
+        force=col("normal_force"),
+        contact_area=col("contact_area"),
+        adhesive_area=col("adhesive_area"),
+        repulsive_force=col("repulsive_force"),
+        adhesive_force=col("adhesive_force"),
+        iterations=col("iterations", int),
+        converged=col("converged", bool),
+        results=store,
+        steps=rows,
+    )
+    curve.jumps = find_jumps(curve)
+    return curve
+
+
+def find_jumps(curve: LoadCurve, threshold: float = JUMP_THRESHOLD) -> list[dict]:
+    """Discontinuities of the contact area along each branch (jump-in / jump-off)."""
+    jumps = []
+    for name in ("loading", "unloading"):
+        idx = np.where(curve.branch == name)[0]
+        for i0, i1 in zip(idx[:-1], idx[1:]):
+            a0, a1 = curve.contact_area[i0], curve.contact_area[i1]
+            ref = max(a0, a1)
+            if ref <= 0 or abs(a1 - a0) <= threshold * ref:
+                continue
+            kind = "jump-in" if a1 > a0 else "jump-off"
+            jumps.append({"index": int(i1), "branch": name, "kind": kind,
+                          "approach": float(curve.approach[i1]), "force": float(curve.force[i1])})
+    return jumps
+
+
+def approach_curve(
+    operator: ConvolutionOperator,
+    gap,
+    approaches: Sequence[float],
+    *,
+    interaction=None,
+    unload: bool = True,
+    tol: float = 1e-10,
+    max_iterations: int = 10000,
+    keep_fields: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+) -> LoadCurve:
+    """Force-approach curve under displacement control.
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+    gap : array_like
+        Initial gap h (m).
+    approaches : sequence of float
+        Approaches (m) of the loading branch, in loading order; the unloading branch runs
+        through the same values in reverse.
+    interaction : Interaction, optional
+    unload : bool
+        Also trace the unloading branch.
+    tol, max_iterations
+        Solver settings for each point.
+    keep_fields : bool
+        Keep every :class:`NormalResult` (memory: ~6 fields per point).
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each point.
+
+    Returns
+    -------
+    LoadCurve
+    """
+    approaches = np.asarray(approaches, dtype=float)
+    if approaches.ndim != 1 or len(approaches) < 1 or not np.all(np.isfinite(approaches)):
+        raise InputError("load.approaches", "must be a non-empty list of finite approaches (m)")
+    plan = [("loading", d) for d in approaches]
+    if unload:
+        plan += [("unloading", d) for d in approaches[::-1]]
+    rows, store, prev = [], [], None
+    for k, (branch, d) in enumerate(plan):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            res = solve_normal(operator, gap, approach=float(d), interaction=interaction, tol=tol,
+                               max_iterations=max_iterations, initial_pressure=prev)
+        if not res.converged:
+            warnings.warn(f"{branch} point at approach {d:.4g} m: {res.message}", ConvergenceWarning, stacklevel=2)
+        _record(rows, res, branch, keep_fields, store)
+        prev = res
+        if progress:
+            progress(k + 1, len(plan))
+    return _assemble("displacement", rows, store)
+
+
+def force_curve(
+    operator: ConvolutionOperator,
+    gap,
+    forces: Sequence[float],
+    *,
+    interaction=None,
+    unload: bool = True,
+    tol: float = 1e-10,
+    max_iterations: int = 10000,
+    keep_fields: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+) -> LoadCurve:
+    """Force-approach curve under force control.
+
+    The loading branch runs through ``forces`` in order, the unloading branch back in
+    reverse.  Where no equilibrium exists (beyond pull-off) the point is recorded as not
+    converged, a jump-off is reported at the previous point, and the branch stops.
+    """
+    forces = np.asarray(forces, dtype=float)
+    if forces.ndim != 1 or len(forces) < 1 or not np.all(np.isfinite(forces)):
+        raise InputError("load.forces", "must be a non-empty list of finite forces (N)")
+    plan = [("loading", f) for f in forces]
+    if unload:
+        plan += [("unloading", f) for f in forces[::-1]]
+    rows, store, prev = [], [], None
+    detached_branch = None
+    jump_offs = []
+    for k, (branch, f) in enumerate(plan):
+        if branch == detached_branch:
+            continue
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            res = solve_normal(operator, gap, force=float(f), interaction=interaction, tol=tol,
+                               max_iterations=max_iterations, initial_pressure=prev)
+        if not res.converged:
+            # No equilibrium at this force: the contact jumps off (force control).
+            if rows:
+                jump_offs.append({"index": len(rows) - 1, "branch": branch, "kind": "jump-off",
+                                  "approach": rows[-1]["approach"], "force": rows[-1]["normal_force"]})
+            detached_branch = branch
+            prev = None
+            continue
+        _record(rows, res, branch, keep_fields, store)
+        prev = res
+        if progress:
+            progress(k + 1, len(plan))
+    if not rows:
+        raise InputError("load.forces", "no force of the list has an equilibrium (all beyond pull-off)")
+    curve = _assemble("force", rows, store)
+    curve.jumps = sorted(curve.jumps + jump_offs, key=lambda j: j["index"])
+    return curve
+
+
+@dataclass
+class PullOff:
+    """Pull-off of an adhesive contact.
+
+    Attributes
+    ----------
+    force : float
+        Pull-off force (N), the most negative force on the unloading curve (negative).
+    approach : float
+        Approach at pull-off (m).
+    curve : LoadCurve
+        The unloading curve it was taken from.
+    """
+
+    force: float
+    approach: float
+    curve: LoadCurve
+
+
+def pull_off(
+    operator: ConvolutionOperator,
+    gap,
+    interaction,
+    *,
+    preload: float,
+    control: str = "displacement",
+    n_steps: int = 40,
+    refine: int = 8,
+    tol: float = 1e-9,
+    max_iterations: int = 10000,
+    progress: Callable[[int, int], None] | None = None,
+) -> PullOff:
+    """Pull-off force of an adhesive contact, by unloading from a compressive preload.
+
+    Displacement control (default): solve the preload under force control, then step the
+    approach down until the bodies separate, and refine the minimum of F(delta) by
+    golden-section search (``refine`` extra solves).  Force control: step the force down
+    from the preload until no equilibrium exists; the last force with one is the pull-off.
+
+    Parameters
+    ----------
+    operator, gap, interaction
+        As for :func:`solve_normal` (``interaction`` is required).
+    preload : float
+        Compressive force (N, > 0) from which the unloading starts.
+    control : {"displacement", "force"}
+    n_steps : int
+        Unloading steps.
+    refine : int
+        Golden-section refinements of the minimum (displacement control).
+    """
+    if interaction is None:
+        raise InputError("adhesion", "pull-off needs an adhesive interaction")
+    if not preload > 0:
+        raise InputError("load.preload", f"must be > 0 N, got {preload!r}")
+    start = solve_normal(operator, gap, force=preload, interaction=interaction, tol=tol, max_iterations=max_iterations)
+    if control == "force":
+        # Force steps from the preload down; the most negative converged force bounds pull-off.
+        h0 = getattr(interaction, "range", 0.0)
+        sigma0 = -interaction.floor
+        f_min = -2.0 * sigma0 * (start.contact_area + start.adhesive_area) - preload
+        forces = np.linspace(preload, f_min, n_steps)
+        curve = force_curve(operator, gap, forces, interaction=interaction, unload=False, tol=tol,
+                            max_iterations=max_iterations, progress=progress)
+        del h0
+        return PullOff(curve.pull_off_force, curve.pull_off_approach, curve)
+    if control != "displacement":
+        raise InputError("control", f"must be 'displacement' or 'force', got {control!r}")
+
+    # Displacement control: step down until the contact is lost and the force vanishes.
+    rng = getattr(interaction, "range", 0.0)
+    d_hi = start.approach
+    span = max(d_hi, 0.0) + 3.0 * rng
+    d_lo = -span
+    approaches = np.linspace(d_hi, d_lo, n_steps)
+    rows, store, prev = [], [], start
+    for k, d in enumerate(approaches):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            res = solve_normal(operator, gap, approach=float(d), interaction=interaction, tol=tol,
+                               max_iterations=max_iterations, initial_pressure=prev)
+        _record(rows, res, "unloading", False, store)
+        prev = res
+        if progress:
+            progress(k + 1, len(approaches) + refine)
+        if res.contact_area == 0 and res.adhesive_area == 0:
+            break
+    curve = _assemble("displacement", rows, store)
+    i = int(np.argmin(np.where(curve.converged, curve.force, np.inf)))
+    # Golden-section refinement of the minimum between the neighbours of the best step,
+    # warm-started from the solution at the bracket's upper end (same branch).
+    if refine > 0 and 0 < i < len(rows) - 1:
+        lo, hi = curve.approach[i + 1], curve.approach[i - 1]
+        ws = {float(curve.approach[i]): None}
+        gr = (math.sqrt(5.0) - 1.0) / 2.0
+        cache = {}
+
+        def f(d):
+            if d not in cache:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", ConvergenceWarning)
+                    r = solve_normal(operator, gap, approach=float(d), interaction=interaction, tol=tol,
+                                     max_iterations=max_iterations, initial_pressure=start_for_refine)
+                cache[d] = r
+            return cache[d].force if cache[d].converged else np.inf
+
+        start_for_refine = solve_normal(operator, gap, approach=float(hi), interaction=interaction, tol=tol,
+                                        max_iterations=max_iterations, initial_pressure=start)
+        a, b = lo, hi
+        c, d = b - gr * (b - a), a + gr * (b - a)
+        for _ in range(refine):
+            if f(c) < f(d):
+                b = d
+            else:
+                a = c
+            c, d = b - gr * (b - a), a + gr * (b - a)
+        best = min(cache.values(), key=lambda r: r.force if r.converged else np.inf)
+        del ws
+        if best.converged and best.force < curve.force[i]:
+            return PullOff(best.force, best.approach, curve)
+    return PullOff(float(curve.force[i]), float(curve.approach[i]), curve)
