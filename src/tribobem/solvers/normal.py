@@ -62,6 +62,7 @@ def solve_normal(
     initial_pressure=None,
     initial_contact=None,
     strict: bool = False,
+    refresh: int = 50,
 ) -> NormalResult:
     """Solve a normal contact problem, with or without adhesion.
 
@@ -94,6 +95,9 @@ def solve_normal(
     strict : bool
         Raise :class:`~tribobem.errors.ConvergenceError` instead of warning when the solver
         does not converge.
+    refresh : int
+        Recompute the displacement exactly at least every ``refresh`` iterations (between
+        refreshes it is updated incrementally while the contact set does not change).
 
     Returns
     -------
@@ -128,6 +132,7 @@ def solve_normal(
         target = force / cell  # target sum of p
         h_eff = h
     else:
+        target = None
         if not math.isfinite(approach):
             raise InputError("load.approach", f"must be finite, got {approach!r}")
         h_eff = h - approach
@@ -152,84 +157,27 @@ def solve_normal(
     else:
         contact = xp.zeros(grid.shape, dtype=bool)
 
-    tau0 = 1.0 / _self_compliance(op)
-    t = xp.zeros(grid.shape)
-    G_old = 1.0
-    conjugate = False
+    state = _CGState(op, inter, floor, h_eff, p, contact, force_control, target, refresh)
     history: list[float] = []
     converged = False
     message = ""
-    tau = tau0
-    delta = float("nan") if force_control else float(approach)
-
     for it in range(1, max_iterations + 1):
-        # Step 2: gap from the current pressure; under force control the approach is the
-        # mean of h + u over the contact nodes (Polonsky-Keer), so g has zero mean there.
-        g = op.apply(p)
-        g += h_eff
-        n_c = int(xp.count_nonzero(contact))
-        if force_control:
-            if n_c == 0:
-                message = "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
-                break
-            delta = float(xp.sum(xp.where(contact, g, 0.0))) / n_c
-            g -= delta
-
-        # Step 3: conjugate direction on the contact nodes.
-        g_c = xp.where(contact, g, 0.0)
-        G = float(xp.vdot(g_c, g_c))
-        if conjugate and G_old > 0:
-            t = xp.where(contact, g_c + (G / G_old) * t, 0.0)
-        else:
-            t = g_c
-        G_old = G
-
-        # Step 4: step length.
-        if n_c > 0 and G > 0:
-            r = op.apply(t)
-            rt = float(xp.vdot(r, t))
-            if force_control:
-                rt -= float(xp.sum(xp.where(contact, r, 0.0))) / n_c * float(xp.sum(t))
-            tau = float(xp.vdot(g_c, t)) / rt if rt > 0 else tau0
-
-        # Step 5: update, project, move nodes between the sets.
-        p_new = p - tau * t
-        stays = contact & (p_new > floor)
-        outside = inter.outside_stress(g, xp)
-        overlap = ~stays & (g < 0)
-        p_new = xp.where(stays, p_new, outside)
-        p_new = xp.where(overlap, outside - tau * g, p_new)
-        new_contact = stays | overlap
-        conjugate = not bool(xp.any(overlap))
-
-        # Step 6: force balance, scaling p - floor on the contact nodes.
-        if force_control:
-            n_new = int(xp.count_nonzero(new_contact))
-            if n_new == 0:
-                message = "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
-                p, contact = p_new, new_contact
-                break
-            fixed = float(xp.sum(xp.where(new_contact, 0.0, p_new)))
-            free = float(xp.sum(xp.where(new_contact, p_new - floor, 0.0)))
-            scale = (target - fixed - floor * n_new) / free if free > 0 else -1.0
-            if scale <= 0:
-                message = ("the contact cannot carry the requested force: the load is beyond "
-                           "pull-off (no equilibrium under force control)")
-                p, contact = p_new, new_contact
-                break
-            p_new = xp.where(new_contact, scale * (p_new - floor) + floor, p_new)
-
-        err = float(xp.sum(xp.abs(p_new - p)))
-        norm = float(xp.sum(xp.abs(p_new)))
-        err = err / norm if norm > 0 else err
-        history.append(err)
-        p, contact = p_new, new_contact
-        if err < tol:
-            converged = True
-            message = f"converged in {it} iterations"
+        status = state.iterate()
+        if status is not None:
+            message = status
             break
+        history.append(state.error)
+        if state.error < tol:
+            if state.started_exact:
+                converged = True
+                message = f"converged in {it} iterations"
+                break
+            # The displacement was updated incrementally: confirm with an exact one.
+            state.make_exact()
     else:
         message = f"not converged after {max_iterations} iterations (residual {history[-1]:.3e}, tolerance {tol:.1e})"
+    p, contact = state.full_pressure(), state.cmask
+    delta = state.delta if force_control else float(approach)
 
     # Final fields, consistent with the returned pressure.
     u = op.apply(p)
@@ -264,3 +212,190 @@ def solve_normal(
         control="force" if force_control else "displacement",
         info={"max_penetration": max(penetration, 0.0), "interaction": repr(inter), "operator": op.kind},
     )
+
+
+class _CGState:
+    """Working state of the constrained CG (Paper A steps 2-6) on the compressed contact set.
+
+    ``idx`` are the flat indices of the contact nodes; ``p_c`` and ``t_c`` the pressure and
+    search direction there; ``p_out`` the stress of the non-contact nodes (full array, zero
+    on contact nodes; ``None`` when the interaction has no outside stress).
+    """
+
+    def __init__(self, op, inter, floor, h_eff, p, contact, force_control, target, refresh):
+        xp = op.xp
+        self.op, self.xp, self.inter, self.floor = op, xp, inter, floor
+        self.h = h_eff.ravel()
+        self.force_control, self.target, self.refresh = force_control, target, refresh
+        self.has_outside = not isinstance(inter, NoInteraction)
+        self.shape = h_eff.shape
+        self.size = h_eff.size
+        self.tau0 = 1.0 / _self_compliance(op)
+        self.tau = self.tau0
+        self.delta = 0.0
+        self.error = float("inf")
+        self.conjugate = False
+        self.G_old = 1.0
+        self._set_pressure(p.ravel(), contact.ravel())
+        self.t_full = xp.zeros(self.size)
+        self.t_c = xp.zeros(len(self.idx))
+        self.make_exact()
+
+    # -- state helpers -------------------------------------------------------------
+    def _set_pressure(self, p_flat, cmask_flat):
+        xp = self.xp
+        self.cmask = cmask_flat.reshape(self.shape)
+        self.cflat = cmask_flat
+        self.idx = xp.flatnonzero(cmask_flat)
+        self.p_c = p_flat[self.idx].copy()
+        if self.has_outside:
+            self.p_out = xp.where(cmask_flat, 0.0, p_flat)
+        else:
+            self.p_out = None
+        self.W = None  # K(p_out + floor 1_C), valid while no node changes status
+
+    def full_pressure(self):
+        p = self.p_out.copy() if self.p_out is not None else self.xp.zeros(self.size)
+        p[self.idx] = self.p_c
+        return p.reshape(self.shape)
+
+    def make_exact(self):
+        self.u = self.op.apply(self.full_pressure()).ravel()
+        self.u_exact = True
+        self.since_exact = 0
+
+    def _W(self):
+        if self.W is None:
+            if not self.has_outside and self.floor == 0.0:
+                self.W = 0.0
+            else:
+                w = self.p_out.copy() if self.p_out is not None else self.xp.zeros(self.size)
+                w[self.idx] = self.floor
+                self.W = self.op.apply(w.reshape(self.shape)).ravel()
+        return self.W
+
+    # -- one iteration ---------------------------------------------------------------
+    def iterate(self):
+        """One CG iteration; returns an error message when no equilibrium exists."""
+        xp, op, floor = self.xp, self.op, self.floor
+        self.started_exact = self.u_exact
+        idx = self.idx
+        n_c = len(idx)
+        if self.force_control and n_c == 0:
+            return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
+
+        # Step 2: gap on the contact nodes; under force control the approach is the mean
+        # of h + u there (Polonsky-Keer), so the contact gap has zero mean.
+        g_c = self.u[idx] + self.h[idx]
+        if self.force_control:
+            self.delta = float(g_c.mean())
+            g_c -= self.delta
+
+        # Step 3: conjugate direction.
+        G = float(g_c @ g_c)
+        if self.conjugate and self.G_old > 0:
+            t_c = g_c + (G / self.G_old) * self.t_c
+        else:
+            t_c = g_c
+        self.G_old = G
+
+        # Step 4: step length from r = K t (mean-free on the contact under force control).
+        r = None
+        if n_c > 0 and G > 0:
+            self.t_full.fill(0.0)
+            self.t_full[idx] = t_c
+            r = op.apply(self.t_full.reshape(self.shape)).ravel()
+            r_c = r[idx]
+            rt = float(r_c @ t_c)
+            if self.force_control:
+                rt -= float(r_c.mean()) * float(t_c.sum())
+            self.tau = float(g_c @ t_c) / rt if rt > 0 else self.tau0
+        self.t_c = t_c
+        tau = self.tau
+
+        # Step 5: update on the contact, then check every node's status with the full gap.
+        p_c_new = self.p_c - tau * t_c
+        stays = p_c_new > floor
+        g = self.u + self.h
+        if self.force_control:
+            g -= self.delta
+        g[idx] = 0.0
+        overlap = g < 0  # non-contact nodes that penetrate (contact nodes have g = 0 here)
+        any_overlap = bool(overlap.any())
+        self.conjugate = not any_overlap
+        if self.has_outside:
+            out_new = self.inter.outside_stress(g, xp)
+            out_new[idx] = 0.0
+            out_changed = bool(xp.any(out_new != self.p_out))
+        else:
+            out_new, out_changed = None, False
+        all_stay = bool(stays.all())
+        changed = any_overlap or out_changed or not all_stay
+
+        p_c_old, idx_old, p_out_old = self.p_c, idx, self.p_out
+        if not changed:
+            self.p_c = p_c_new
+        else:
+            # Rebuild the sets: leavers take the outside stress of their gap, overlapping
+            # nodes enter with p = s(g) - tau g (Paper A Eq. 21).
+            p_full = out_new if out_new is not None else xp.zeros(self.size)
+            leavers = idx[~stays]
+            if len(leavers):
+                p_full[leavers] = (self.inter.outside_stress(g[leavers], xp) if self.has_outside else 0.0)
+            p_full[idx[stays]] = p_c_new[stays]
+            cm = xp.zeros(self.size, dtype=bool)
+            cm[idx[stays]] = True
+            if any_overlap:
+                ov = xp.flatnonzero(overlap)
+                base = out_new[ov] if out_new is not None else 0.0
+                p_full[ov] = base - tau * g[ov]
+                cm[ov] = True
+            # Keep the search direction of the nodes that stay (for the next conjugate step).
+            self.t_full.fill(0.0)
+            self.t_full[idx] = t_c
+            self._set_pressure(p_full, cm)
+            self.t_c = self.t_full[self.idx]
+
+        # Step 6: force balance by scaling p - floor on the contact nodes.
+        scale = 1.0
+        if self.force_control:
+            n_new = len(self.idx)
+            if n_new == 0:
+                return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
+            fixed = float(self.p_out.sum()) if self.p_out is not None else 0.0
+            free = float(self.p_c.sum()) - floor * n_new
+            scale = (self.target - fixed - floor * n_new) / free if free > 0 else -1.0
+            if scale <= 0:
+                return ("the contact cannot carry the requested force: the load is beyond "
+                        "pull-off (no equilibrium under force control)")
+            if floor == 0.0:
+                self.p_c *= scale
+            else:
+                self.p_c = scale * (self.p_c - floor) + floor
+
+        # Relative pressure change (Paper A Eq. 23, made relative).
+        if not changed:
+            diff = float(xp.abs(self.p_c - p_c_old).sum())
+        else:
+            old = p_out_old.copy() if p_out_old is not None else xp.zeros(self.size)
+            old[idx_old] = p_c_old
+            diff = float(xp.abs(self.full_pressure().ravel() - old).sum())
+        norm = float(xp.abs(self.p_c).sum()) + (float(xp.abs(self.p_out).sum()) if self.p_out is not None else 0.0)
+        self.error = diff / norm if norm > 0 else diff
+
+        # New displacement: incremental while nothing changed status, else exact.
+        self.since_exact += 1
+        if not changed and r is not None and self.since_exact < self.refresh:
+            W = self._W()
+            u = self.u
+            u -= tau * r
+            if scale != 1.0:
+                u *= scale
+                if not isinstance(W, float):
+                    u += (1.0 - scale) * W
+            self.u_exact = False
+        elif not changed and r is None:
+            pass  # nothing moved (no contact node, no status change)
+        else:
+            self.make_exact()
+        return None

@@ -1,0 +1,70 @@
+"""Analytic reference solutions (SPEC 8), used to validate the numerical solvers.
+
+Modules
+-------
+hertz     Hertz sphere on flat (thesis A.1).
+adhesion  Bradley, JKR, DMT and Maugis-Dugdale (thesis A.2; Johnson-Greenwood form).
+wavy      Rigid sphere on an axisymmetric wavy surface with a Dugdale zone (Guduru 2007,
+          Paper A Eqs. 25-30, re-derived) and its JKR limit.
+periodic  Westergaard sinusoid, bisinusoidal (JGH 1985) asymptotes, Paper A bisinusoidal
+          pull-off fit.
+rough     Greenwood-Williamson and Persson theories (thesis 2.1.1-2.1.2).
+
+Conventions: SI units, E* the composite modulus, forces positive when compressive, pull-off
+forces NEGATIVE (``*_pull_off_magnitude`` helpers give |F|), approach positive when the bodies
+are pushed together.
+"""
+
+from .adhesion import (
+    MAUGIS_PER_TABOR, DMTSolution, JKRSolution, MaugisDugdaleCurve, MaugisDugdalePullOff,
+    MaugisDugdaleSolution, bradley_pull_off, bradley_pull_off_magnitude, dmt, dmt_pull_off,
+    dmt_pull_off_magnitude, dugdale_range, dugdale_stress, johnson_greenwood_pull_off_fit, jkr,
+    jkr_pressure, jkr_pull_off, jkr_pull_off_magnitude, maugis_dugdale, maugis_dugdale_curve,
+    maugis_dugdale_pressure, maugis_dugdale_pull_off, maugis_dugdale_pull_off_force,
+    maugis_dugdale_pull_off_magnitude, maugis_dugdale_pull_off_point, maugis_dugdale_scales,
+    maugis_from_tabor, maugis_parameter, tabor_from_maugis, tabor_parameter,
+)
+from .hertz import HertzSolution, hertz, hertz_pressure
+from .periodic import (
+    BisinusoidalAsymptotes, WestergaardSolution, bisinusoidal_asymptotes,
+    bisinusoidal_curvature_radius, bisinusoidal_full_contact_pressure, bisinusoidal_pull_off_fit,
+    bisinusoidal_pull_off_fit_magnitude, westergaard, westergaard_contact_fraction,
+    westergaard_pressure,
+)
+from .rough import (
+    GreenwoodWilliamsonResult, greenwood_williamson, greenwood_williamson_F,
+    persson_area_self_affine, persson_contact_area, persson_G, persson_P_sigma,
+    persson_self_affine_C0, persson_self_affine_G, persson_self_affine_psd,
+)
+from .wavy import (
+    GuduruCurve, GuduruSolution, guduru, guduru_cohesive_equation, guduru_curve,
+    guduru_hertz_force, guduru_jkr_curve, guduru_parameters,
+)
+
+__all__ = [
+    # hertz
+    "HertzSolution", "hertz", "hertz_pressure",
+    # adhesion
+    "MAUGIS_PER_TABOR", "dugdale_stress", "dugdale_range", "tabor_parameter", "maugis_parameter",
+    "maugis_from_tabor", "tabor_from_maugis",
+    "bradley_pull_off", "bradley_pull_off_magnitude",
+    "JKRSolution", "jkr", "jkr_pressure", "jkr_pull_off", "jkr_pull_off_magnitude",
+    "DMTSolution", "dmt", "dmt_pull_off", "dmt_pull_off_magnitude",
+    "johnson_greenwood_pull_off_fit",
+    "MaugisDugdaleCurve", "MaugisDugdaleSolution", "MaugisDugdalePullOff",
+    "maugis_dugdale_curve", "maugis_dugdale", "maugis_dugdale_pressure",
+    "maugis_dugdale_pull_off", "maugis_dugdale_pull_off_point", "maugis_dugdale_pull_off_force",
+    "maugis_dugdale_pull_off_magnitude", "maugis_dugdale_scales",
+    # wavy
+    "GuduruCurve", "GuduruSolution", "guduru", "guduru_curve", "guduru_jkr_curve",
+    "guduru_cohesive_equation", "guduru_parameters", "guduru_hertz_force",
+    # periodic
+    "WestergaardSolution", "westergaard", "westergaard_pressure", "westergaard_contact_fraction",
+    "BisinusoidalAsymptotes", "bisinusoidal_asymptotes", "bisinusoidal_full_contact_pressure",
+    "bisinusoidal_curvature_radius", "bisinusoidal_pull_off_fit",
+    "bisinusoidal_pull_off_fit_magnitude",
+    # rough
+    "greenwood_williamson_F", "GreenwoodWilliamsonResult", "greenwood_williamson",
+    "persson_G", "persson_P_sigma", "persson_contact_area", "persson_self_affine_C0",
+    "persson_self_affine_psd", "persson_self_affine_G", "persson_area_self_affine",
+]

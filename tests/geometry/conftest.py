@@ -1,0 +1,28 @@
+"""Fixtures of the geometry tests."""
+
+import os
+from pathlib import Path
+
+import pytest
+
+#: Values of /work/shared/data/topographies/README.md: grid, size (m), rms height after
+#: detrend("center") (m), rms slope (-).
+TOPOGRAPHY_FILES = {
+    "example_ps.tiff": ((512, 512), (1e-6, 1e-6), 3.933e-9, 0.385),
+    "di-3.di": ((256, 256), (10e-6, 10e-6), 226.4e-9, 0.207),
+    "spot_1-1000nm.ibw": ((256, 256), (20.08e-6, 20.08e-6), 89.45e-9, 0.0625),
+    "plu-1.plu": ((768, 576), (1274.9e-6, 956.2e-6), 2.834e-6, 0.00898),
+}
+
+
+@pytest.fixture(scope="session")
+def topography_dir() -> Path:
+    """Folder of the measured example topographies (skips the test if absent).
+
+    ``$TRIBOBEM_TOPOGRAPHY_DIR`` if set, else ``<repo>/../shared/data/topographies``.
+    """
+    env = os.environ.get("TRIBOBEM_TOPOGRAPHY_DIR")
+    path = Path(env) if env else Path(__file__).resolve().parents[2].parent / "shared" / "data" / "topographies"
+    if not path.is_dir():
+        pytest.skip(f"measured topographies not found at {path}")
+    return path
