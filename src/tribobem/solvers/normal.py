@@ -214,12 +214,18 @@ def solve_normal(
     )
 
 
-class _CGState:
-    """Working state of the constrained CG (Paper A steps 2-6) on the compressed contact set.
+def _dot(a, b) -> float:
+    """Dot product without BLAS: on a busy machine OpenBLAS threads spin against the FFT
+    threads and a 10^4-element ``a @ b`` can cost as much as a full-grid pass."""
+    return float((a * b).sum())
 
-    ``idx`` are the flat indices of the contact nodes; ``p_c`` and ``t_c`` the pressure and
-    search direction there; ``p_out`` the stress of the non-contact nodes (full array, zero
-    on contact nodes; ``None`` when the interaction has no outside stress).
+
+class _CGState:
+    """Working state of the constrained CG (Paper A steps 2-6).
+
+    ``p`` is the full (flat) pressure, ``idx`` the flat indices of the contact nodes, and
+    ``t_c`` the search direction on them.  Work arrays are preallocated and updated in
+    place: at 1024^2 a fresh array costs as much as a pass over it.
     """
 
     def __init__(self, op, inter, floor, h_eff, p, contact, force_control, target, refresh):
@@ -236,48 +242,44 @@ class _CGState:
         self.error = float("inf")
         self.conjugate = False
         self.G_old = 1.0
-        self._set_pressure(p.ravel(), contact.ravel())
-        self.t_full = xp.zeros(self.size)
+        self.p = xp.array(p, dtype=float).ravel()
+        self.cflat = xp.array(contact, dtype=bool).ravel()
+        self.idx = xp.flatnonzero(self.cflat)
         self.t_c = xp.zeros(len(self.idx))
+        self.t_full = xp.zeros(self.size)
+        self.g = xp.empty(self.size)
+        self.work = xp.empty(self.size)
+        self.p_old = xp.empty(self.size)
+        self.W = None  # K(p_out + floor 1_C), valid while no node changes status
+        # Stress of a node that just left the contact (its gap is ~0).
+        self.s0 = float(op.backend.to_numpy(inter.outside_stress(xp.zeros(1), xp))[0]) if self.has_outside else 0.0
         self.make_exact()
 
-    # -- state helpers -------------------------------------------------------------
-    def _set_pressure(self, p_flat, cmask_flat):
-        xp = self.xp
-        self.cmask = cmask_flat.reshape(self.shape)
-        self.cflat = cmask_flat
-        self.idx = xp.flatnonzero(cmask_flat)
-        self.p_c = p_flat[self.idx].copy()
-        if self.has_outside:
-            self.p_out = xp.where(cmask_flat, 0.0, p_flat)
-        else:
-            self.p_out = None
-        self.W = None  # K(p_out + floor 1_C), valid while no node changes status
+    @property
+    def cmask(self):
+        return self.cflat.reshape(self.shape)
 
     def full_pressure(self):
-        p = self.p_out.copy() if self.p_out is not None else self.xp.zeros(self.size)
-        p[self.idx] = self.p_c
-        return p.reshape(self.shape)
+        return self.p.reshape(self.shape)
 
     def make_exact(self):
-        self.u = self.op.apply(self.full_pressure()).ravel()
+        self.u = self.op.apply(self.p.reshape(self.shape)).ravel()
         self.u_exact = True
         self.since_exact = 0
 
     def _W(self):
+        """K applied to the pressure the force balance does not scale (cached)."""
         if self.W is None:
             if not self.has_outside and self.floor == 0.0:
                 self.W = 0.0
             else:
-                w = self.p_out.copy() if self.p_out is not None else self.xp.zeros(self.size)
-                w[self.idx] = self.floor
+                w = self.xp.where(self.cflat, self.floor, self.p)
                 self.W = self.op.apply(w.reshape(self.shape)).ravel()
         return self.W
 
-    # -- one iteration ---------------------------------------------------------------
     def iterate(self):
         """One CG iteration; returns an error message when no equilibrium exists."""
-        xp, op, floor = self.xp, self.op, self.floor
+        xp, op, floor, p = self.xp, self.op, self.floor, self.p
         self.started_exact = self.u_exact
         idx = self.idx
         n_c = len(idx)
@@ -292,11 +294,8 @@ class _CGState:
             g_c -= self.delta
 
         # Step 3: conjugate direction.
-        G = float(g_c @ g_c)
-        if self.conjugate and self.G_old > 0:
-            t_c = g_c + (G / self.G_old) * self.t_c
-        else:
-            t_c = g_c
+        G = _dot(g_c, g_c)
+        t_c = g_c + (G / self.G_old) * self.t_c if (self.conjugate and self.G_old > 0) else g_c
         self.G_old = G
 
         # Step 4: step length from r = K t (mean-free on the contact under force control).
@@ -306,17 +305,18 @@ class _CGState:
             self.t_full[idx] = t_c
             r = op.apply(self.t_full.reshape(self.shape)).ravel()
             r_c = r[idx]
-            rt = float(r_c @ t_c)
+            rt = _dot(r_c, t_c)
             if self.force_control:
                 rt -= float(r_c.mean()) * float(t_c.sum())
-            self.tau = float(g_c @ t_c) / rt if rt > 0 else self.tau0
-        self.t_c = t_c
+            self.tau = _dot(g_c, t_c) / rt if rt > 0 else self.tau0
         tau = self.tau
 
-        # Step 5: update on the contact, then check every node's status with the full gap.
-        p_c_new = self.p_c - tau * t_c
+        # Step 5: update on the contact; every node's status from the full gap.
+        p_c_old = p[idx]
+        p_c_new = p_c_old - tau * t_c
         stays = p_c_new > floor
-        g = self.u + self.h
+        g = self.g
+        xp.add(self.u, self.h, out=g)
         if self.force_control:
             g -= self.delta
         g[idx] = 0.0
@@ -325,62 +325,65 @@ class _CGState:
         self.conjugate = not any_overlap
         if self.has_outside:
             out_new = self.inter.outside_stress(g, xp)
-            out_new[idx] = 0.0
-            out_changed = bool(xp.any(out_new != self.p_out))
+            out_new[idx] = p_c_old  # compare only the non-contact nodes below
+            out_changed = not bool(xp.array_equal(out_new, p))
         else:
             out_new, out_changed = None, False
-        all_stay = bool(stays.all())
-        changed = any_overlap or out_changed or not all_stay
+        changed = any_overlap or out_changed or not bool(stays.all())
 
-        p_c_old, idx_old, p_out_old = self.p_c, idx, self.p_out
         if not changed:
-            self.p_c = p_c_new
+            p[idx] = p_c_new
+            diff = float(xp.abs(tau * t_c).sum())
         else:
             # Rebuild the sets: leavers take the outside stress of their gap, overlapping
             # nodes enter with p = s(g) - tau g (Paper A Eq. 21).
-            p_full = out_new if out_new is not None else xp.zeros(self.size)
-            leavers = idx[~stays]
-            if len(leavers):
-                p_full[leavers] = (self.inter.outside_stress(g[leavers], xp) if self.has_outside else 0.0)
-            p_full[idx[stays]] = p_c_new[stays]
-            cm = xp.zeros(self.size, dtype=bool)
-            cm[idx[stays]] = True
+            self.p_old[...] = p
+            if out_new is not None:
+                p[...] = out_new
+            else:
+                p[idx] = 0.0
+            p[idx] = xp.where(stays, p_c_new, self.s0)
+            cm = self.cflat
+            cm[idx] = stays
             if any_overlap:
                 ov = xp.flatnonzero(overlap)
-                base = out_new[ov] if out_new is not None else 0.0
-                p_full[ov] = base - tau * g[ov]
+                p[ov] -= tau * g[ov]
                 cm[ov] = True
-            # Keep the search direction of the nodes that stay (for the next conjugate step).
+            # Keep the search direction of the nodes that stay, for the next conjugate step.
             self.t_full.fill(0.0)
             self.t_full[idx] = t_c
-            self._set_pressure(p_full, cm)
-            self.t_c = self.t_full[self.idx]
+            self.idx = idx = xp.flatnonzero(cm)
+            t_c = self.t_full[idx]
+            self.W = None
+            diff = None
+        self.t_c = t_c
 
         # Step 6: force balance by scaling p - floor on the contact nodes.
         scale = 1.0
         if self.force_control:
-            n_new = len(self.idx)
+            n_new = len(idx)
             if n_new == 0:
                 return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
-            fixed = float(self.p_out.sum()) if self.p_out is not None else 0.0
-            free = float(self.p_c.sum()) - floor * n_new
+            p_c = p[idx]
+            total = float(p.sum()) if self.has_outside else float(p_c.sum())
+            free = float(p_c.sum()) - floor * n_new
+            fixed = total - float(p_c.sum())
             scale = (self.target - fixed - floor * n_new) / free if free > 0 else -1.0
             if scale <= 0:
                 return ("the contact cannot carry the requested force: the load is beyond "
                         "pull-off (no equilibrium under force control)")
-            if floor == 0.0:
-                self.p_c *= scale
-            else:
-                self.p_c = scale * (self.p_c - floor) + floor
+            new_c = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
+            if diff is not None:
+                diff = float(xp.abs(new_c - p_c_old).sum())
+            p[idx] = new_c
 
         # Relative pressure change (Paper A Eq. 23, made relative).
-        if not changed:
-            diff = float(xp.abs(self.p_c - p_c_old).sum())
-        else:
-            old = p_out_old.copy() if p_out_old is not None else xp.zeros(self.size)
-            old[idx_old] = p_c_old
-            diff = float(xp.abs(self.full_pressure().ravel() - old).sum())
-        norm = float(xp.abs(self.p_c).sum()) + (float(xp.abs(self.p_out).sum()) if self.p_out is not None else 0.0)
+        if diff is None:
+            work = self.work
+            xp.subtract(p, self.p_old, out=work)
+            xp.abs(work, out=work)
+            diff = float(work.sum())
+        norm = float(xp.abs(p).sum()) if (self.has_outside or floor != 0.0) else float(p[idx].sum())
         self.error = diff / norm if norm > 0 else diff
 
         # New displacement: incremental while nothing changed status, else exact.
@@ -388,11 +391,15 @@ class _CGState:
         if not changed and r is not None and self.since_exact < self.refresh:
             W = self._W()
             u = self.u
-            u -= tau * r
             if scale != 1.0:
+                xp.multiply(r, -tau * scale, out=self.work)
                 u *= scale
+                u += self.work
                 if not isinstance(W, float):
                     u += (1.0 - scale) * W
+            else:
+                xp.multiply(r, -tau, out=self.work)
+                u += self.work
             self.u_exact = False
         elif not changed and r is None:
             pass  # nothing moved (no contact node, no status change)
