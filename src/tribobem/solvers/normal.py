@@ -19,9 +19,13 @@ Differences from the printed algorithm (documented in the README):
   from F0 by the adhesive force of that zone;
 * nodes are classified with boolean masks; a non-contact node whose gap becomes negative
   (overlap) enters the contact with p = s(g) - tau g (Eq. 21 applied to its stress);
-* convergence is measured by the relative change of the pressure,
-  sum |p - p_old| / sum |p| (Eq. 23 made relative), and the solver reports non-convergence
-  with a warning, the residual history and ``converged=False``.
+* convergence needs both the relative change of the pressure,
+  sum |p - p_old| / sum |p| (Eq. 23 made relative), and the rms gap on the contact nodes
+  relative to the range of the initial gap, to fall below ``tol``: the pressure change alone
+  can stall while gaps stay open.  The solver reports non-convergence with a warning, the
+  residual history and ``converged=False``;
+* the conjugate direction restarts from steepest descent when it is not a descent direction
+  or after a large force rescale (the first step of a warm start at a new load).
 """
 
 from __future__ import annotations
@@ -63,6 +67,7 @@ def solve_normal(
     initial_contact=None,
     strict: bool = False,
     refresh: int = 50,
+    stall: int = 2000,
 ) -> NormalResult:
     """Solve a normal contact problem, with or without adhesion.
 
@@ -95,6 +100,9 @@ def solve_normal(
     strict : bool
         Raise :class:`~tribobem.errors.ConvergenceError` instead of warning when the solver
         does not converge.
+    stall : int
+        Stop (not converged) when the residual has not improved on its best value for
+        this many iterations, e.g. when no equilibrium exists near an instability.
     refresh : int
         Recompute the displacement exactly at least every ``refresh`` iterations (between
         refreshes it is updated incrementally while the contact set does not change).
@@ -161,13 +169,21 @@ def solve_normal(
     history: list[float] = []
     converged = False
     message = ""
+    best, best_it = float("inf"), 0
     for it in range(1, max_iterations + 1):
         status = state.iterate()
         if status is not None:
             message = status
             break
-        history.append(state.error)
-        if state.error < tol:
+        residual = max(state.error, state.gap_residual)
+        history.append(residual)
+        if residual < best:
+            best, best_it = residual, it
+        elif it - best_it >= stall:
+            message = (f"stalled: no progress in {stall} iterations (residual {residual:.3e}, best "
+                       f"{best:.3e}, tolerance {tol:.1e}); near an instability there may be no equilibrium")
+            break
+        if residual < tol:
             if state.started_exact:
                 converged = True
                 message = f"converged in {it} iterations"
@@ -242,6 +258,9 @@ class _CGState:
         self.error = float("inf")
         self.conjugate = False
         self.G_old = 1.0
+        # Scale of the gap residual: the range of the initial gap (m).
+        self.h_scale = max(float(h_eff.max() - h_eff.min()), 1e-300)
+        self.gap_residual = float("inf")
         self.p = xp.array(p, dtype=float).ravel()
         self.cflat = xp.array(contact, dtype=bool).ravel()
         self.idx = xp.flatnonzero(self.cflat)
@@ -296,7 +315,10 @@ class _CGState:
         # Step 3: conjugate direction.
         G = _dot(g_c, g_c)
         t_c = g_c + (G / self.G_old) * self.t_c if (self.conjugate and self.G_old > 0) else g_c
+        if t_c is not g_c and _dot(g_c, t_c) <= 0.0:
+            t_c = g_c  # not a descent direction: restart from steepest descent
         self.G_old = G
+        self.gap_residual = math.sqrt(G / n_c) / self.h_scale if n_c else 0.0
 
         # Step 4: step length from r = K t (mean-free on the contact under force control).
         r = None
@@ -373,6 +395,10 @@ class _CGState:
                 return ("the contact cannot carry the requested force: the load is beyond "
                         "pull-off (no equilibrium under force control)")
             new_c = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
+            if abs(scale - 1.0) > 0.1:
+                # A large rescale (first step after a load change) moves every gap: the old
+                # conjugate direction no longer belongs to this problem.
+                self.conjugate = False
             if diff is not None:
                 diff = float(xp.abs(new_c - p_c_old).sum())
             p[idx] = new_c

@@ -23,8 +23,11 @@ from ..errors import ConvergenceWarning, InputError
 from ..results import NormalResult
 from .normal import solve_normal
 
-#: Relative change of the contact area between two steps that counts as a jump.
+#: A jump: the contact area changes between two steps by more than this fraction of the
+#: larger of the two, and by more than ``JUMP_MIN_FRACTION`` of the branch's largest area
+#: (rough contacts change area in many small bursts that are not instabilities of the curve).
 JUMP_THRESHOLD = 0.25
+JUMP_MIN_FRACTION = 0.05
 
 
 @dataclass
@@ -136,15 +139,19 @@ def _assemble(control: str, rows: list, store: list) -> LoadCurve:
     return curve
 
 
-def find_jumps(curve: LoadCurve, threshold: float = JUMP_THRESHOLD) -> list[dict]:
+def find_jumps(curve: LoadCurve, threshold: float = JUMP_THRESHOLD,
+               min_fraction: float = JUMP_MIN_FRACTION) -> list[dict]:
     """Discontinuities of the contact area along each branch (jump-in / jump-off)."""
     jumps = []
     for name in ("loading", "unloading"):
         idx = np.where(curve.branch == name)[0]
+        if len(idx) < 2:
+            continue
+        a_max = float(np.max(curve.contact_area[idx]))
         for i0, i1 in zip(idx[:-1], idx[1:]):
             a0, a1 = curve.contact_area[i0], curve.contact_area[i1]
             ref = max(a0, a1)
-            if ref <= 0 or abs(a1 - a0) <= threshold * ref:
+            if ref <= 0 or abs(a1 - a0) <= threshold * ref or abs(a1 - a0) <= min_fraction * a_max:
                 continue
             kind = "jump-in" if a1 > a0 else "jump-off"
             jumps.append({"index": int(i1), "branch": name, "kind": kind,
@@ -281,6 +288,13 @@ class PullOff:
     curve: LoadCurve
 
 
+def _solve_quiet(operator, gap, interaction, tol, max_iterations, initial, **load):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        return solve_normal(operator, gap, interaction=interaction, tol=tol,
+                            max_iterations=max_iterations, initial_pressure=initial, **load)
+
+
 def pull_off(
     operator: ConvolutionOperator,
     gap,
@@ -296,10 +310,14 @@ def pull_off(
 ) -> PullOff:
     """Pull-off force of an adhesive contact, by unloading from a compressive preload.
 
-    Displacement control (default): solve the preload under force control, then step the
-    approach down until the bodies separate, and refine the minimum of F(delta) by
-    golden-section search (``refine`` extra solves).  Force control: step the force down
-    from the preload until no equilibrium exists; the last force with one is the pull-off.
+    Displacement control (default): solve the preload under force control, step the
+    approach down until the bodies separate, then refine the minimum of F(delta) by
+    golden-section search (``refine`` extra solves), each solve warm-started from the curve
+    point just above the bracket so that it stays on the branch being unloaded.
+
+    Force control: step the force down from the preload; at the first force without
+    equilibrium, bisect (``refine`` times) between it and the last force with one.  The last
+    force with an equilibrium is the force-controlled pull-off (jump-off).
 
     Parameters
     ----------
@@ -311,75 +329,96 @@ def pull_off(
     n_steps : int
         Unloading steps.
     refine : int
-        Golden-section refinements of the minimum (displacement control).
+        Golden-section (displacement) or bisection (force) refinements.
     """
     if interaction is None:
         raise InputError("adhesion", "pull-off needs an adhesive interaction")
     if not preload > 0:
         raise InputError("load.preload", f"must be > 0 N, got {preload!r}")
-    start = solve_normal(operator, gap, force=preload, interaction=interaction, tol=tol, max_iterations=max_iterations)
-    if control == "force":
-        # Force steps from the preload down; the most negative converged force bounds pull-off.
-        h0 = getattr(interaction, "range", 0.0)
-        sigma0 = -interaction.floor
-        f_min = -2.0 * sigma0 * (start.contact_area + start.adhesive_area) - preload
-        forces = np.linspace(preload, f_min, n_steps)
-        curve = force_curve(operator, gap, forces, interaction=interaction, unload=False, tol=tol,
-                            max_iterations=max_iterations, progress=progress)
-        del h0
-        return PullOff(curve.pull_off_force, curve.pull_off_approach, curve)
-    if control != "displacement":
+    if control not in ("displacement", "force"):
         raise InputError("control", f"must be 'displacement' or 'force', got {control!r}")
+    start = _solve_quiet(operator, gap, interaction, tol, max_iterations, None, force=preload)
+    if not start.converged:
+        raise InputError("load.preload", f"the preload has no converged solution: {start.message}")
+    total = n_steps + refine
+    rows, store = [], []
+
+    if control == "force":
+        # Lower bound of any tensile force: sigma0 over the whole domain.
+        f_min = interaction.floor * operator.grid.area
+        forces = np.linspace(preload, f_min, n_steps + 1)[1:]
+        prev, f_ok, f_fail = start, preload, None
+        _record(rows, start, "unloading", False, store)
+        for k, f in enumerate(forces):
+            res = _solve_quiet(operator, gap, interaction, tol, max_iterations, prev, force=float(f))
+            if progress:
+                progress(k + 1, total)
+            if not res.converged:
+                f_fail = float(f)
+                break
+            _record(rows, res, "unloading", False, store)
+            prev, f_ok = res, float(f)
+        if f_fail is not None:
+            for k in range(refine):
+                f = 0.5 * (f_ok + f_fail)
+                res = _solve_quiet(operator, gap, interaction, tol, max_iterations, prev, force=f)
+                if progress:
+                    progress(n_steps + k + 1, total)
+                if res.converged:
+                    _record(rows, res, "unloading", False, store)
+                    prev, f_ok = res, f
+                else:
+                    f_fail = f
+        rows.sort(key=lambda r: -r["normal_force"])
+        curve = _assemble("force", rows, store)
+        if f_fail is not None:
+            curve.jumps.append({"index": len(rows) - 1, "branch": "unloading", "kind": "jump-off",
+                                "approach": prev.approach, "force": prev.force})
+        return PullOff(prev.force, prev.approach, curve)
 
     # Displacement control: step down until the contact is lost and the force vanishes.
     rng = getattr(interaction, "range", 0.0)
     d_hi = start.approach
-    span = max(d_hi, 0.0) + 3.0 * rng
-    d_lo = -span
-    approaches = np.linspace(d_hi, d_lo, n_steps)
-    rows, store, prev = [], [], start
+    approaches = np.linspace(d_hi, -(max(d_hi, 0.0) + 3.0 * rng), n_steps)
+    prev = start
+    best = (np.inf, None, None)  # (force, index, result just above the best point)
     for k, d in enumerate(approaches):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ConvergenceWarning)
-            res = solve_normal(operator, gap, approach=float(d), interaction=interaction, tol=tol,
-                               max_iterations=max_iterations, initial_pressure=prev)
+        res = _solve_quiet(operator, gap, interaction, tol, max_iterations, prev, approach=float(d))
         _record(rows, res, "unloading", False, store)
+        if res.converged and res.force < best[0]:
+            best = (res.force, k, prev)
         prev = res
         if progress:
-            progress(k + 1, len(approaches) + refine)
+            progress(k + 1, total)
         if res.contact_area == 0 and res.adhesive_area == 0:
             break
     curve = _assemble("displacement", rows, store)
-    i = int(np.argmin(np.where(curve.converged, curve.force, np.inf)))
-    # Golden-section refinement of the minimum between the neighbours of the best step,
-    # warm-started from the solution at the bracket's upper end (same branch).
+    f_best, i, above = best
+    if i is None:
+        raise InputError("adhesion", "no point of the unloading curve converged")
+    result = PullOff(float(curve.force[i]), float(curve.approach[i]), curve)
     if refine > 0 and 0 < i < len(rows) - 1:
-        lo, hi = curve.approach[i + 1], curve.approach[i - 1]
-        ws = {float(curve.approach[i]): None}
-        gr = (math.sqrt(5.0) - 1.0) / 2.0
+        lo, hi = float(curve.approach[i + 1]), float(curve.approach[i - 1])
         cache = {}
 
         def f(d):
             if d not in cache:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", ConvergenceWarning)
-                    r = solve_normal(operator, gap, approach=float(d), interaction=interaction, tol=tol,
-                                     max_iterations=max_iterations, initial_pressure=start_for_refine)
-                cache[d] = r
-            return cache[d].force if cache[d].converged else np.inf
+                cache[d] = _solve_quiet(operator, gap, interaction, tol, max_iterations, above, approach=d)
+            r = cache[d]
+            return r.force if r.converged else np.inf
 
-        start_for_refine = solve_normal(operator, gap, approach=float(hi), interaction=interaction, tol=tol,
-                                        max_iterations=max_iterations, initial_pressure=start)
+        gr = (math.sqrt(5.0) - 1.0) / 2.0
         a, b = lo, hi
         c, d = b - gr * (b - a), a + gr * (b - a)
-        for _ in range(refine):
+        for k in range(refine):
             if f(c) < f(d):
                 b = d
             else:
                 a = c
             c, d = b - gr * (b - a), a + gr * (b - a)
-        best = min(cache.values(), key=lambda r: r.force if r.converged else np.inf)
-        del ws
-        if best.converged and best.force < curve.force[i]:
-            return PullOff(best.force, best.approach, curve)
-    return PullOff(float(curve.force[i]), float(curve.approach[i]), curve)
+            if progress:
+                progress(n_steps + k + 1, total)
+        r_best = min(cache.values(), key=lambda r: r.force if r.converged else np.inf)
+        if r_best.converged and r_best.force < result.force:
+            result = PullOff(r_best.force, r_best.approach, curve)
+    return result
