@@ -4,14 +4,32 @@ rough surfaces.
 Data flows one way: inputs -> geometry -> operator -> solver -> result -> outputs.
 """
 
-from .errors import ConvergenceError, ConvergenceWarning, InputError, TribobemError
+from .elasticity import free_boundary_operator, make_operator, periodic_operator
+from .errors import ConvergenceError, ConvergenceWarning, InputError, MemoryBudgetError, TopographyError, TribobemError
 from .grid import Grid
+from .interactions import DugdaleAdhesion
 from .materials import ContactPair, Material, effective_modulus
+from .output import read_fields, read_summary
+from .results import NormalResult
+from .scenario import RunResult, Scenario, ScenarioError, load_scenario, parse_scenario, run_scenario
+from .solvers import solve_normal
+from .solvers.paths import LoadCurve, PullOff, approach_curve, force_curve, pull_off
+from .units import to_si
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "Grid", "Material", "ContactPair", "effective_modulus",
-    "TribobemError", "InputError", "ConvergenceError", "ConvergenceWarning",
+    # model
+    "Grid", "Material", "ContactPair", "effective_modulus", "DugdaleAdhesion",
+    # operators and solvers
+    "make_operator", "periodic_operator", "free_boundary_operator",
+    "solve_normal", "approach_curve", "force_curve", "pull_off",
+    # results
+    "NormalResult", "LoadCurve", "PullOff",
+    # scenarios and outputs
+    "load_scenario", "parse_scenario", "run_scenario", "Scenario", "RunResult", "read_summary", "read_fields", "to_si",
+    # errors
+    "TribobemError", "InputError", "TopographyError", "MemoryBudgetError", "ScenarioError",
+    "ConvergenceError", "ConvergenceWarning",
     "__version__",
 ]

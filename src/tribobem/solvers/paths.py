@@ -140,21 +140,35 @@ def _assemble(control: str, rows: list, store: list) -> LoadCurve:
 
 
 def find_jumps(curve: LoadCurve, threshold: float = JUMP_THRESHOLD,
-               min_fraction: float = JUMP_MIN_FRACTION) -> list[dict]:
-    """Discontinuities of the contact area along each branch (jump-in / jump-off)."""
+               min_fraction: float = JUMP_MIN_FRACTION, slope_factor: float = 2.0) -> list[dict]:
+    """Discontinuities of a force-approach curve (jump-in / jump-off) along each branch.
+
+    A step is a jump when (i) the contact area changes by more than ``threshold`` of the
+    larger area and by more than ``min_fraction`` of the branch's largest area, and (ii) its
+    force-approach slope exceeds ``slope_factor`` times the slopes of both neighbouring
+    steps: new asperities touching a rough surface change the area in bursts but leave the
+    force continuous, a branch ending makes the force jump.
+    """
     jumps = []
     for name in ("loading", "unloading"):
-        idx = np.where(curve.branch == name)[0]
+        idx = np.where((curve.branch == name) & curve.converged)[0]
         if len(idx) < 2:
             continue
         a_max = float(np.max(curve.contact_area[idx]))
-        for i0, i1 in zip(idx[:-1], idx[1:]):
-            a0, a1 = curve.contact_area[i0], curve.contact_area[i1]
+        d, f, area = curve.approach[idx], curve.force[idx], curve.contact_area[idx]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope = np.abs(np.diff(f) / np.diff(d))
+        for k in range(len(idx) - 1):
+            a0, a1 = area[k], area[k + 1]
             ref = max(a0, a1)
             if ref <= 0 or abs(a1 - a0) <= threshold * ref or abs(a1 - a0) <= min_fraction * a_max:
                 continue
+            neighbours = [slope[j] for j in (k - 1, k + 1) if 0 <= j < len(slope) and np.isfinite(slope[j])]
+            if neighbours and np.isfinite(slope[k]) and slope[k] <= slope_factor * max(neighbours):
+                continue
+            i1 = int(idx[k + 1])
             kind = "jump-in" if a1 > a0 else "jump-off"
-            jumps.append({"index": int(i1), "branch": name, "kind": kind,
+            jumps.append({"index": i1, "branch": name, "kind": kind,
                           "approach": float(curve.approach[i1]), "force": float(curve.force[i1])})
     return jumps
 
@@ -281,11 +295,14 @@ class PullOff:
         Approach at pull-off (m).
     curve : LoadCurve
         The unloading curve it was taken from.
+    state : NormalResult
+        The solution at pull-off (pressure, gap, contact and cohesive zone).
     """
 
     force: float
     approach: float
     curve: LoadCurve
+    state: NormalResult | None = None
 
 
 def _solve_quiet(operator, gap, interaction, tol, max_iterations, initial, **load):
@@ -306,14 +323,18 @@ def pull_off(
     refine: int = 8,
     tol: float = 1e-9,
     max_iterations: int = 10000,
+    max_steps: int = 400,
+    keep_fields: bool = False,
     progress: Callable[[int, int], None] | None = None,
 ) -> PullOff:
     """Pull-off force of an adhesive contact, by unloading from a compressive preload.
 
-    Displacement control (default): solve the preload under force control, step the
-    approach down until the bodies separate, then refine the minimum of F(delta) by
-    golden-section search (``refine`` extra solves), each solve warm-started from the curve
-    point just above the bracket so that it stays on the branch being unloaded.
+    Displacement control (default): solve the preload under force control, then unload by
+    continuation: about ``n_steps / 2`` steps down to zero approach, then steps of h0 / 4
+    (a quarter of the interaction range) once the force is tensile, until the bodies have
+    separated; every solve is warm-started from the previous one, so the curve follows the
+    branch being unloaded.  The minimum is refined by ``2 refine - 1`` finer continuation
+    steps between its neighbours.
 
     Force control: step the force down from the preload; at the first force without
     equilibrium, bisect (``refine`` times) between it and the last force with one.  The last
@@ -327,9 +348,13 @@ def pull_off(
         Compressive force (N, > 0) from which the unloading starts.
     control : {"displacement", "force"}
     n_steps : int
-        Unloading steps.
+        Unloading steps (force control), twice the number of coarse steps (displacement).
     refine : int
-        Golden-section (displacement) or bisection (force) refinements.
+        Refinement of the minimum (finer continuation) or bisections (force control).
+    max_steps : int
+        Upper bound on the unloading steps under displacement control.
+    keep_fields : bool
+        Keep every :class:`NormalResult` in ``curve.results``.
     """
     if interaction is None:
         raise InputError("adhesion", "pull-off needs an adhesive interaction")
@@ -340,7 +365,7 @@ def pull_off(
     start = _solve_quiet(operator, gap, interaction, tol, max_iterations, None, force=preload)
     if not start.converged:
         raise InputError("load.preload", f"the preload has no converged solution: {start.message}")
-    total = n_steps + refine
+    total = (n_steps if control == "force" else max_steps) + 2 * refine
     rows, store = [], []
 
     if control == "force":
@@ -374,51 +399,56 @@ def pull_off(
         if f_fail is not None:
             curve.jumps.append({"index": len(rows) - 1, "branch": "unloading", "kind": "jump-off",
                                 "approach": prev.approach, "force": prev.force})
-        return PullOff(prev.force, prev.approach, curve)
+        return PullOff(prev.force, prev.approach, curve, prev)
 
-    # Displacement control: step down until the contact is lost and the force vanishes.
-    rng = getattr(interaction, "range", 0.0)
+    # Displacement control: a quasi-static continuation.  Coarse steps while the contact is
+    # compressive, then steps of a quarter of the interaction range once the force turns
+    # tensile (a larger step can jump to another metastable branch of a rough contact),
+    # until the bodies have separated.
+    rng = float(getattr(interaction, "range", 0.0)) or 1e-3 * max(abs(start.approach), 1e-12)
     d_hi = start.approach
-    approaches = np.linspace(d_hi, -(max(d_hi, 0.0) + 3.0 * rng), n_steps)
-    prev = start
-    best = (np.inf, None, None)  # (force, index, result just above the best point)
-    for k, d in enumerate(approaches):
+    coarse = max((d_hi - 0.0) / max(n_steps // 2, 1), rng / 4.0)
+    fine = rng / 4.0
+    prev, d = start, d_hi
+    best_state = None
+    best = (np.inf, None, None)  # (force, row index, result just above that point)
+    k = 0
+    while k < max_steps:
+        step = fine if (prev.force < 0.0 or d - coarse < 0.0) else coarse
+        d -= step
         res = _solve_quiet(operator, gap, interaction, tol, max_iterations, prev, approach=float(d))
-        _record(rows, res, "unloading", False, store)
+        _record(rows, res, "unloading", keep_fields, store)
         if res.converged and res.force < best[0]:
-            best = (res.force, k, prev)
+            best = (res.force, len(rows) - 1, prev)
+            best_state = res
         prev = res
+        k += 1
         if progress:
-            progress(k + 1, total)
+            progress(k, total)
         if res.contact_area == 0 and res.adhesive_area == 0:
             break
-    curve = _assemble("displacement", rows, store)
+    else:
+        warnings.warn(f"pull-off: the bodies had not separated after {max_steps} steps", ConvergenceWarning, stacklevel=2)
     f_best, i, above = best
     if i is None:
         raise InputError("adhesion", "no point of the unloading curve converged")
-    result = PullOff(float(curve.force[i]), float(curve.approach[i]), curve)
+    result_force, result_approach = float(rows[i]["normal_force"]), float(rows[i]["approach"])
+    state = best_state
+    # Refine around the minimum by a finer continuation from the point just above it.
     if refine > 0 and 0 < i < len(rows) - 1:
-        lo, hi = float(curve.approach[i + 1]), float(curve.approach[i - 1])
-        cache = {}
-
-        def f(d):
-            if d not in cache:
-                cache[d] = _solve_quiet(operator, gap, interaction, tol, max_iterations, above, approach=d)
-            r = cache[d]
-            return r.force if r.converged else np.inf
-
-        gr = (math.sqrt(5.0) - 1.0) / 2.0
-        a, b = lo, hi
-        c, d = b - gr * (b - a), a + gr * (b - a)
-        for k in range(refine):
-            if f(c) < f(d):
-                b = d
-            else:
-                a = c
-            c, d = b - gr * (b - a), a + gr * (b - a)
+        d0, d1 = float(rows[i - 1]["approach"]), float(rows[i + 1]["approach"])
+        prev = above
+        for k, d in enumerate(np.linspace(d0, d1, 2 * refine + 1)[1:-1]):
+            res = _solve_quiet(operator, gap, interaction, tol, max_iterations, prev, approach=float(d))
+            prev = res
             if progress:
-                progress(n_steps + k + 1, total)
-        r_best = min(cache.values(), key=lambda r: r.force if r.converged else np.inf)
-        if r_best.converged and r_best.force < result.force:
-            result = PullOff(r_best.force, r_best.approach, curve)
-    return result
+                progress(max_steps + k, total)
+            if res.converged and res.force < result_force:
+                result_force, result_approach, state = res.force, res.approach, res
+                _record(rows, res, "unloading", keep_fields, store)
+        order = np.argsort([-r["approach"] for r in rows], kind="stable")
+        rows = [rows[j] for j in order]
+        if keep_fields:
+            store = [store[j] for j in order]
+    curve = _assemble("displacement", rows, store)
+    return PullOff(result_force, result_approach, curve, state)

@@ -1,0 +1,388 @@
+"""The ``tribobem`` command line (Typer).
+
+Commands: ``demo``, ``run SCENARIO.toml``, ``validate``, ``info TOPOGRAPHY``, ``plot RESULT``.
+Errors in the user's input (bad scenario keys, units, ranges, unreadable files, grids too
+large for memory) print one red line and exit with code 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import tomllib
+import warnings
+from contextlib import contextmanager
+from importlib import resources
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from .errors import ConvergenceWarning, InputError, MemoryBudgetError, TopographyError
+
+app = typer.Typer(
+    name="tribobem",
+    help="FFT-accelerated boundary-element contact mechanics: adhesive, frictional contact of rough surfaces.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+#: Exit code of input errors (bad scenario, unreadable file, grid too large).
+EXIT_INPUT = 2
+#: Exit code of ``validate`` when a case fails.
+EXIT_FAILED = 1
+
+DEMO_FILE = "example_ps.tiff"
+
+
+def _stdout() -> Console:
+    return Console(highlight=False, soft_wrap=True)
+
+
+def _stderr() -> Console:
+    return Console(stderr=True, highlight=False, soft_wrap=True)
+
+
+@contextmanager
+def _user_errors():
+    """Turn input errors into one red line on stderr and exit code 2."""
+    try:
+        yield
+    except typer.Exit:
+        raise
+    except (InputError, TopographyError, MemoryBudgetError, FileNotFoundError, tomllib.TOMLDecodeError,
+            NotImplementedError, PermissionError, IsADirectoryError) as exc:
+        text = str(exc) if not isinstance(exc, FileNotFoundError) or not exc.filename else f"{exc.strerror}: {exc.filename}"
+        kind = "memory" if isinstance(exc, MemoryBudgetError) else "error"
+        _stderr().print(f"[bold red]{kind}:[/bold red] [red]{escape(' '.join(str(text).split()))}[/red]")
+        raise typer.Exit(EXIT_INPUT) from None
+
+
+def _warn_nonconverged(summary: dict, quiet: bool) -> None:
+    if not summary.get("converged"):
+        bad = sum(1 for s in summary.get("steps", []) if not s.get("converged"))
+        _stderr().print(f"[bold yellow]warning:[/bold yellow] {bad} of {len(summary.get('steps', []))} step(s) did "
+                        "not converge; see summary.json and the report")
+
+
+def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None:
+    from .units import display_unit, format_quantity
+
+    steps = summary.get("steps", [])
+    table = Table(title=f"tribobem {summary.get('kind')} run", show_lines=False, pad_edge=False)
+    cols = (("normal_force", "F", "force"), ("approach", "\u03b4", "length"), ("contact_area", "A_c", "area"),
+            ("adhesive_area", "A_adh", "area"), ("max_pressure", "p_max", "pressure"))
+    scales = {}
+    for key, label, dim in cols:
+        vals = [s.get(key) for s in steps if s.get(key) is not None]
+        scales[key] = display_unit(vals, dim)
+    table.add_column("#", justify="right")
+    table.add_column("branch", justify="left")
+    for key, label, dim in cols:
+        table.add_column(f"{label} ({scales[key][1]})", justify="right")
+    table.add_column("iter", justify="right")
+    table.add_column("ok", justify="center")
+    show = steps if len(steps) <= 30 else steps[:15] + steps[-15:]
+    for s in show:
+        cells = []
+        for key, _, _ in cols:
+            v = s.get(key)
+            cells.append("-" if v is None else f"{v / scales[key][0]:.4g}")
+        branch = {"loading": "load", "unloading": "unload"}.get(s.get("branch"), str(s.get("branch", "")))
+        table.add_row(str(s.get("index", "")), branch, *cells, str(s.get("iterations", "")),
+                      "yes" if s.get("converged") else "[red]NO[/red]")
+    console.print(table)
+    if summary.get("pull_off_force") is not None:
+        console.print(f"pull-off force: [bold]{format_quantity(summary['pull_off_force'], 'force', 4)}[/bold] "
+                      f"at approach {format_quantity(summary.get('pull_off_approach'), 'length', 4)}")
+    prob = summary.get("problem", {})
+    if prob.get("tabor_parameter") is not None:
+        console.print(f"Tabor parameter {prob['tabor_parameter']:.3g}, Maugis parameter {prob['maugis_parameter']:.3g}")
+    t = summary.get("timings", {})
+    if t:
+        console.print(f"time: {t.get('total', 0):.1f} s (solve {t.get('solve', 0):.1f} s)")
+    if outdir is not None:
+        report = Path(outdir) / "report.html"
+        console.print(f"results in [bold]{escape(str(outdir))}[/bold]"
+                      + (f"; report: [bold]{escape(str(report))}[/bold]" if report.exists() else ""))
+
+
+def _run(scenario, out: Path, quiet: bool, as_json: bool, base_dir=None) -> dict:
+    from .scenario import run_scenario
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        result = run_scenario(scenario, outdir=out, progress=not (quiet or as_json), quiet=quiet or as_json,
+                              base_dir=base_dir)
+    summary = result.summary
+    if as_json:
+        from .output.summary import jsonable
+
+        sys.stdout.write(json.dumps(jsonable(summary), indent=2) + "\n")
+    elif not quiet:
+        _print_summary(summary, out, _stdout())
+    else:
+        _stdout().print(str(Path(out) / "report.html") if (Path(out) / "report.html").exists() else str(out))
+    _warn_nonconverged(summary, quiet)
+    return summary
+
+
+# ----------------------------------------------------------------------------- demo
+def find_data_dir() -> Path | None:
+    """The shared topography folder: ``$TRIBOBEM_DATA_DIR``, else ``../shared/data/topographies``
+    relative to the current directory or to the repository root; None if absent."""
+    env = os.environ.get("TRIBOBEM_DATA_DIR")
+    candidates = []
+    if env:
+        candidates.append(Path(env))
+    candidates.append(Path.cwd() / ".." / "shared" / "data" / "topographies")
+    repo = Path(__file__).resolve().parents[2]  # src/tribobem/cli.py -> repo root
+    candidates.append(repo.parent / "shared" / "data" / "topographies")
+    candidates.append(repo / ".." / "shared" / "data" / "topographies")
+    for c in candidates:
+        if (c / DEMO_FILE).is_file():
+            return c.resolve()
+    return None
+
+
+def demo_scenario(small: bool = False) -> tuple[dict, str]:
+    """The embedded demo scenario (dict) and a one-line description of its topography.
+
+    A rigid silica-like sphere (R = 5 um) pressed on, then pulled off, a polystyrene film
+    whose roughness is the Park Systems AFM scan ``example_ps.tiff`` when the shared data
+    folder is present, else a generated Gaussian surface of similar rms.
+    """
+    data_dir = find_data_dir()
+    name = "demo.toml" if data_dir is not None else "demo_generated.toml"
+    text = resources.files("tribobem").joinpath("data", name).read_text(encoding="utf-8")
+    sc = tomllib.loads(text)
+    if data_dir is not None:
+        sc["body1"]["roughness"]["path"] = str(data_dir / DEMO_FILE)
+        where = f"Park AFM topography {data_dir / DEMO_FILE}"
+    else:
+        where = "generated Gaussian roughness (shared topography folder not found; set TRIBOBEM_DATA_DIR)"
+    if small:  # tests: a tiny, fast version of the same job
+        sc["grid"]["n"] = 32
+        sc["load"]["steps"] = 10
+        sc["load"]["refine"] = 2
+    return sc, where
+
+
+@app.command()
+def demo(
+    out: Path = typer.Option(Path("tribobem_demo"), "--out", "-o", help="Result folder."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or tables; print the report path."),
+    as_json: bool = typer.Option(False, "--json", help="Print summary.json to stdout."),
+    small: bool = typer.Option(False, "--small", hidden=True, help="Tiny grid (tests)."),
+):
+    """Run the built-in demo: an adhesive sphere pulled off a measured AFM topography."""
+    with _user_errors():
+        if os.environ.get("TRIBOBEM_DEMO_SMALL"):
+            small = True
+        sc, where = demo_scenario(small)
+        if not (quiet or as_json):
+            _stdout().print(f"[bold]tribobem demo[/bold]: rigid sphere (R = 5 µm) on polystyrene, Dugdale adhesion, "
+                            f"{escape(where)}")
+        _run(sc, out, quiet, as_json, base_dir=Path.cwd())
+
+
+# ----------------------------------------------------------------------------- run
+@app.command()
+def run(
+    scenario: Path = typer.Argument(..., help="Scenario file (TOML)."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Result folder (default: results/<scenario name>)."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or tables."),
+    as_json: bool = typer.Option(False, "--json", help="Print summary.json to stdout."),
+):
+    """Run a scenario file and write summary.json, fields.nc, figures and report.html."""
+    with _user_errors():
+        if not scenario.exists():
+            raise FileNotFoundError(f"scenario file {scenario} not found")
+        outdir = out if out is not None else Path("results") / scenario.stem
+        _run(scenario, outdir, quiet, as_json)
+
+
+# ----------------------------------------------------------------------------- sweep
+@app.command()
+def sweep(
+    sweep_file: Path = typer.Argument(..., help="Sweep file (TOML): a base scenario and a grid of parameters."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Results folder (default: <stem>_results beside the file)."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler ADDRESS, 'local' or 'synchronous'."),
+    workers: Optional[int] = typer.Option(None, "--workers", help="Workers of the local cluster."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or messages."),
+    as_json: bool = typer.Option(False, "--json", help="Print the sweep result as JSON."),
+):
+    """Run a scenario over a grid of parameters (Dask; resumable: finished points are kept)."""
+    with _user_errors():
+        from .sweep import sweep_command
+
+        if not sweep_file.exists():
+            raise FileNotFoundError(f"sweep file {sweep_file} not found")
+        code = sweep_command(str(sweep_file), out=str(out) if out else None, scheduler=scheduler, workers=workers,
+                             quiet=quiet, json_output=as_json)
+    if code:
+        raise typer.Exit(code)
+
+
+# ----------------------------------------------------------------------------- validate
+@app.command()
+def validate(
+    quick: bool = typer.Option(True, "--quick/--full", help="Quick (small grids) or full validation."),
+    as_json: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
+    case: Optional[list[str]] = typer.Option(None, "--case", help="Run only these cases (repeatable)."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No spinner."),
+):
+    """Run the analytic validation cases and print a table of errors (exit 1 if any fails)."""
+    with _user_errors():
+        try:
+            from .validation import run_validation
+        except ImportError as exc:
+            raise InputError("validate", f"the validation module is not available: {exc}") from None
+        console = _stdout()
+        if as_json or quiet:
+            rows = run_validation(quick=quick, cases=case or None)
+        else:
+            with _stderr().status(f"running the {'quick' if quick else 'full'} validation cases ..."):
+                rows = run_validation(quick=quick, cases=case or None)
+        records = [_row_dict(r) for r in rows]
+        failed = [r for r in records if not r["passed"]]
+        if as_json:
+            from .output.summary import jsonable
+
+            sys.stdout.write(json.dumps(jsonable({"quick": quick, "passed": not failed, "rows": records}), indent=2) + "\n")
+        else:
+            table = Table(title=f"tribobem validation ({'quick' if quick else 'full'})")
+            for col, just in (("case", "left"), ("quantity", "left"), ("reference", "right"), ("computed", "right"),
+                              ("rel. error", "right"), ("tolerance", "right"), ("", "center")):
+                table.add_column(col, justify=just)
+            for r in records:
+                table.add_row(str(r["case"]), str(r["quantity"]), _g(r["reference"]), _g(r["computed"]),
+                              _g(r["rel_error"], ".2e"), _g(r["tolerance"], ".1e"),
+                              "[green]pass[/green]" if r["passed"] else "[bold red]FAIL[/bold red]")
+            console.print(table)
+            console.print(f"{len(records) - len(failed)} of {len(records)} checks passed"
+                          + (f"; [bold red]{len(failed)} failed[/bold red]" if failed else ""))
+        if failed:
+            raise typer.Exit(EXIT_FAILED)
+
+
+def _row_dict(row) -> dict:
+    if isinstance(row, dict):
+        d = dict(row)
+    elif hasattr(row, "_asdict"):
+        d = row._asdict()
+    elif hasattr(row, "__dataclass_fields__"):
+        from dataclasses import asdict
+
+        d = asdict(row)
+    else:
+        d = {k: getattr(row, k) for k in ("case", "quantity", "reference", "computed", "rel_error", "tolerance", "passed")}
+    d["passed"] = bool(d.get("passed"))
+    return d
+
+
+def _g(v, fmt: str = ".5g") -> str:
+    try:
+        return format(float(v), fmt)
+    except (TypeError, ValueError):
+        return str(v)
+
+
+# ----------------------------------------------------------------------------- info
+@app.command()
+def info(
+    topography: Path = typer.Argument(..., help="Topography file (AFM, confocal, .x3p, .npy, text, ...)."),
+    as_json: bool = typer.Option(False, "--json", help="Print the statistics as JSON."),
+    channel: Optional[str] = typer.Option(None, "--channel", help="Channel name or index."),
+    detrend: str = typer.Option("center", "--detrend", help="none | center | height | curvature"),
+    unit: Optional[str] = typer.Option(None, "--unit", help="Length unit, for files that do not store one."),
+):
+    """Read a measured topography and print its size and statistics (SI after detrending)."""
+    with _user_errors():
+        from .geometry import read_topography
+        from .units import format_quantity
+
+        if not topography.exists():
+            raise FileNotFoundError(f"topography file {topography} not found")
+        ch = int(channel) if channel is not None and channel.isdigit() else channel
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            topo = read_topography(topography, channel=ch, detrend=detrend, unit=unit)
+        st = topo.stats()
+        g = topo.grid
+        record = {
+            "path": str(topography),
+            "format": topo.info.get("format", ""),
+            "instrument": topo.info.get("instrument", ""),
+            "channel": topo.info.get("channel", ""),
+            "channels": topo.info.get("channels", []),
+            "grid": [g.nx, g.ny],
+            "physical_size": [g.lx, g.ly],
+            "pixel_size": [g.dx, g.dy],
+            "unit": topo.info.get("original_unit", ""),
+            "detrend": detrend,
+            "filled_points": topo.info.get("filled_points", 0),
+            **{k: v for k, v in st.items()},
+        }
+        if as_json:
+            from .output.summary import jsonable
+
+            sys.stdout.write(json.dumps(jsonable(record), indent=2) + "\n")
+            return
+        table = Table(title=f"{topography.name}", show_header=False)
+        table.add_column("", justify="left", style="bold")
+        table.add_column("", justify="left")
+        rows = [
+            ("format", f"{record['format']} {('(' + record['instrument'] + ')') if record['instrument'] else ''}".strip()),
+            ("channel", f"{record['channel']} (of {len(record['channels'])})"),
+            ("grid", f"{g.nx} x {g.ny} points"),
+            ("physical size", f"{format_quantity(g.lx, 'length')} x {format_quantity(g.ly, 'length')}"),
+            ("pixel size", f"{format_quantity(g.dx, 'length')} x {format_quantity(g.dy, 'length')}"),
+            ("unit in file", str(record["unit"])),
+            ("detrend", detrend),
+            ("rms height", format_quantity(st.get("rms_height"), "length")),
+            ("rms slope", f"{st.get('rms_slope', float('nan')):.4g}"),
+            ("rms curvature", f"{st.get('rms_curvature', float('nan')):.4g} 1/m"),
+            ("skewness", f"{st.get('skewness', float('nan')):.4g}"),
+            ("kurtosis", f"{st.get('kurtosis', float('nan')):.4g}"),
+            ("correlation length", format_quantity(st.get("correlation_length"), "length")),
+            ("peak to valley", format_quantity(st.get("peak_to_valley"), "length")),
+        ]
+        if record["filled_points"]:
+            rows.append(("filled points", str(record["filled_points"])))
+        for a, b in rows:
+            table.add_row(a, escape(b))
+        _stdout().print(table)
+
+
+# ----------------------------------------------------------------------------- plot
+@app.command()
+def plot(
+    result: Path = typer.Argument(..., help="Result folder (with summary.json and fields.nc)."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print nothing but errors."),
+):
+    """Re-make the figures and report.html of a result folder from its files."""
+    with _user_errors():
+        from .output import replot
+
+        if not result.exists():
+            raise FileNotFoundError(f"result folder {result} not found")
+        if result.is_file():
+            result = result.parent
+        files = replot(result)
+        if not quiet:
+            for name, path in files.items():
+                _stdout().print(f"{name}: {escape(str(path))}")
+
+
+def main() -> None:  # pragma: no cover - console entry alternative
+    app()
+
+
+if __name__ == "__main__":  # pragma: no cover
+    app()

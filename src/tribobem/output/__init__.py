@@ -1,0 +1,57 @@
+"""Outputs of a run: summary.json, fields.nc, PNG figures and a self-contained report.html.
+
+Every file is written atomically (a temporary file in the same folder, then ``os.replace``),
+so an interrupted run never leaves a half-written result behind.
+"""
+
+from .fields import build_fields, read_fields, representative_step, write_fields
+from .figures import FIGURE_NAMES, make_figures
+from .report import render_report, write_report
+from .summary import REQUIRED_KEYS, STEP_KEYS, read_summary, versions, write_summary
+
+__all__ = [
+    "build_fields", "write_fields", "read_fields", "representative_step",
+    "make_figures", "FIGURE_NAMES",
+    "render_report", "write_report",
+    "write_summary", "read_summary", "versions", "STEP_KEYS", "REQUIRED_KEYS",
+    "write_outputs", "replot",
+]
+
+
+def write_outputs(outdir, summary: dict, ds=None, *, figures: bool = True, report: bool = True) -> dict:
+    """Write fields.nc (if ``ds``), the figures, report.html and summary.json into ``outdir``.
+
+    Returns
+    -------
+    dict
+        Name -> Path of every file written ("summary", "fields", "report", figure names).
+    """
+    from pathlib import Path
+
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    files = {}
+    if ds is not None:
+        files["fields"] = write_fields(ds, outdir / "fields.nc")
+    figs = make_figures(ds, summary, outdir) if figures else {}
+    files.update(figs)
+    if report:
+        files["report"] = write_report(outdir, summary, figs)
+    files["summary"] = write_summary(outdir / "summary.json", summary)
+    return files
+
+
+def replot(result_dir) -> dict:
+    """Re-make the figures and report.html of a result folder from its summary.json and
+    fields.nc (fields.nc optional: without it only the force-approach curve is drawn)."""
+    from pathlib import Path
+
+    result_dir = Path(result_dir)
+    if not result_dir.is_dir():
+        raise FileNotFoundError(f"result folder {result_dir} not found")
+    summary = read_summary(result_dir / "summary.json")
+    ds = read_fields(result_dir / "fields.nc") if (result_dir / "fields.nc").exists() else None
+    figs = make_figures(ds, summary, result_dir)
+    files = dict(figs)
+    files["report"] = write_report(result_dir, summary, figs)
+    return files

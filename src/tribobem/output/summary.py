@@ -1,0 +1,150 @@
+"""summary.json: the scalar results of a run (SPEC 9.1 file contract), written atomically.
+
+Keys every version writes: ``kind``, ``converged`` (all steps), ``inputs`` (the parsed
+scenario, SI), ``versions``, ``timings`` and ``steps`` (one dict per load / approach step with
+``normal_force``, ``approach``, ``contact_area``, ``repulsive_force``, ``adhesive_force``,
+``adhesive_area``, ``max_pressure``, ``mean_gap``, ``iterations``, ``residual``,
+``converged``, ...), plus run-level scalars where they apply (``pull_off_force``, ...).
+Non-finite numbers are written as ``null`` (strict JSON).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import platform
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["STEP_KEYS", "REQUIRED_KEYS", "versions", "jsonable", "atomic_write_text", "atomic_write_bytes", "temp_path",
+           "write_summary", "read_summary"]
+
+#: Step keys of the 9.1 contract a normal/pull-off step carries.
+STEP_KEYS = ("normal_force", "approach", "contact_area", "repulsive_force", "adhesive_force", "adhesive_area",
+             "max_pressure", "mean_gap", "iterations", "residual", "converged")
+#: Top-level keys every summary.json has.
+REQUIRED_KEYS = ("kind", "converged", "inputs", "versions", "timings", "steps")
+
+
+def versions() -> dict:
+    """Versions of tribobem, numpy, scipy and python (and the optional libraries in use)."""
+    import scipy
+
+    try:
+        from importlib.metadata import version
+
+        tb = version("tribobem")
+    except Exception:  # pragma: no cover - not installed
+        from .. import __version__ as tb
+    out = {"tribobem": tb, "numpy": np.__version__, "scipy": scipy.__version__,
+           "python": platform.python_version()}
+    for mod in ("xarray", "matplotlib", "SurfaceTopography"):
+        try:
+            m = __import__(mod)
+            out[mod] = getattr(m, "__version__", "")
+        except Exception:  # pragma: no cover
+            pass
+    return out
+
+
+def jsonable(obj):
+    """``obj`` with numpy scalars/arrays turned into Python types and NaN/inf into None."""
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return jsonable(obj.tolist())
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        v = float(obj)
+        return v if math.isfinite(v) else None
+    if isinstance(obj, Path):
+        return str(obj)
+    if obj is None or isinstance(obj, str):
+        return obj
+    return str(obj)
+
+
+def _default_mode() -> int:
+    """Permissions of a new file under the current umask (mkstemp creates 0600 files)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def temp_path(path) -> str:
+    """A new empty temporary file next to ``path`` (same folder, so ``os.replace`` is atomic),
+    with ordinary permissions."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
+    os.chmod(tmp, _default_mode())
+    return tmp
+
+
+def atomic_write_bytes(path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` via a temporary file in the same folder and ``os.replace``."""
+    path = Path(path)
+    tmp = temp_path(path)
+    try:
+        with open(tmp, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return path
+
+
+def atomic_write_text(path, text: str) -> Path:
+    """UTF-8 text version of :func:`atomic_write_bytes`."""
+    return atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def write_summary(path, summary: dict) -> Path:
+    """Write ``summary`` as strict JSON (NaN -> null), atomically.
+
+    Parameters
+    ----------
+    path : path-like
+        Target file (``.../summary.json``) or a folder (then ``summary.json`` in it).
+    summary : dict
+
+    Returns
+    -------
+    Path
+    """
+    path = Path(path)
+    if path.is_dir():
+        path = path / "summary.json"
+    text = json.dumps(jsonable(summary), indent=2, allow_nan=False)
+    return atomic_write_text(path, text + "\n")
+
+
+def read_summary(path) -> dict:
+    """Read a summary.json (a file or the result folder that holds it)."""
+    path = Path(path)
+    if path.is_dir():
+        path = path / "summary.json"
+    if not path.exists():
+        raise FileNotFoundError(f"{path} not found")
+    with open(path, encoding="utf-8") as fh:
+        try:
+            return json.load(fh)
+        except json.JSONDecodeError as exc:
+            from ..errors import InputError
+
+            raise InputError("summary", f"{path} is not valid JSON: {exc}") from None

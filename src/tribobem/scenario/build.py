@@ -1,0 +1,358 @@
+"""Scenario -> problem: grid, materials, initial gap, elastic operator, interaction.
+
+This is the one place where a validated :class:`~tribobem.scenario.schema.Scenario` becomes
+arrays and objects; data flows one way (scenario -> bodies and gap -> operator -> solver).
+
+Sign conventions of scenario files
+----------------------------------
+* A body's ``shape`` is convex toward the other body (a sphere on body 2 points down, a
+  sphere on body 1 points up); shapes add to the gap.
+* A body's ``roughness`` holds heights *as measured on that body*: positive out of the body,
+  toward the counter-surface (what a profilometer or AFM scan of that surface gives).
+  Asperities therefore close the gap, whichever body carries them.
+* The initial gap is ``h = shape1 + shape2 - roughness1 - roughness2``, shifted so that its
+  minimum is 0: approach 0 is the first touch.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError, TopographyError
+from ..grid import Grid
+from ..materials import ContactPair, Material
+from .schema import BodySpec, Scenario
+
+__all__ = ["Problem", "build_problem", "body_material", "resolve_path"]
+
+
+@dataclass
+class Problem:
+    """Everything a solver needs, built from a scenario.
+
+    Attributes
+    ----------
+    scenario : Scenario
+    grid : Grid
+    pair : ContactPair
+    operator : ConvolutionOperator
+        Periodic or free-boundary operator, as ``grid.periodic`` says.
+    gap : ndarray
+        Initial gap h (m), minimum 0.
+    roughness1, roughness2 : ndarray
+        The bodies' roughness heights (m, positive toward the counter-surface).
+    shape1, shape2 : ndarray
+        The bodies' shapes (m, convex toward the other body).
+    interaction : DugdaleAdhesion or None
+    info : dict
+        Derived scalars (E*, sigma0, h0, Tabor/Maugis parameters, roughness statistics,
+        resolved file paths) for the summary.
+    warnings : list of str
+    base_dir : Path
+        Folder that relative paths in the scenario are resolved against.
+    """
+
+    scenario: Scenario
+    grid: Grid
+    pair: ContactPair
+    operator: object
+    gap: np.ndarray
+    roughness1: np.ndarray
+    roughness2: np.ndarray
+    shape1: np.ndarray
+    shape2: np.ndarray
+    interaction: object = None
+    info: dict = field(default_factory=dict)
+    warnings: list = field(default_factory=list)
+    base_dir: Path = Path(".")
+
+
+def resolve_path(path: str, base_dir: Path) -> Path:
+    """``path`` with ``~`` and environment variables expanded, relative to ``base_dir``."""
+    p = Path(os.path.expandvars(os.path.expanduser(path)))
+    return p if p.is_absolute() else (Path(base_dir) / p)
+
+
+def body_material(spec: BodySpec, name: str) -> Material:
+    """The :class:`Material` of a body section."""
+    label = spec.name or name
+    if spec.rigid:
+        return Material(math.inf, 0.0, label)
+    return Material(float(spec.E), float(spec.nu), label)
+
+
+def _rewrap(exc: InputError, prefix: str) -> InputError:
+    """Re-label a geometry error (``topography.path: ...``) with the scenario key."""
+    fieldname = getattr(exc, "field", "") or ""
+    text = str(exc)
+    msg = text[len(fieldname) + 2:] if fieldname and text.startswith(fieldname + ": ") else text
+    sub = fieldname.split(".", 1)[1] if "." in fieldname else fieldname
+    sub = {"heights": "path", "grid": "path"}.get(sub, sub)
+    cls = TopographyError if isinstance(exc, TopographyError) else InputError
+    return cls(f"{prefix}.{sub}" if sub else prefix, msg)
+
+
+class _Loader:
+    """Reads measured topographies once (sizing the grid and building the gap use them)."""
+
+    def __init__(self, base_dir: Path):
+        self.base_dir = Path(base_dir)
+        self.cache: dict = {}
+
+    def topography(self, spec, key: str):
+        """The (detrended, cropped) Topography of a file/array roughness section."""
+        if key in self.cache:
+            return self.cache[key]
+        from ..geometry import read_topography, unit_to_metres
+
+        path = resolve_path(spec.path, self.base_dir)
+        if not path.exists():
+            raise FileNotFoundError(f"{key}.path: file {path} not found (paths are relative to the scenario file's folder)")
+        if spec.kind == "file":
+            try:
+                topo = read_topography(path, channel=spec.channel, detrend=spec.detrend, fill=spec.fill,
+                                       periodic=False, physical_sizes=spec.physical_size, unit=spec.unit)
+            except InputError as exc:
+                raise _rewrap(exc, key) from None
+        else:  # array
+            try:
+                arr = np.load(path, allow_pickle=False)
+            except Exception as exc:
+                raise TopographyError(f"{key}.path", f"cannot read {path} as a .npy array: {exc}") from None
+            arr = np.asarray(arr, dtype=float)
+            if arr.ndim != 2 or min(arr.shape) < 2:
+                raise TopographyError(f"{key}.path", f"{path} holds an array of shape {arr.shape}; need a 2D map")
+            if not np.all(np.isfinite(arr)):
+                bad = int(arr.size - np.count_nonzero(np.isfinite(arr)))
+                raise TopographyError(f"{key}.path", f"{path}: {bad} of {arr.size} values are NaN or infinite")
+            try:
+                factor = unit_to_metres(spec.unit, f"{key}.unit")
+            except InputError as exc:
+                raise _rewrap(exc, key) from None
+            if spec.size is not None:
+                lx = ly = spec.size
+            elif spec.lx is not None:
+                lx, ly = spec.lx, spec.ly
+            else:
+                lx = ly = None  # filled in by the caller from the grid
+            topo = (arr * factor, lx, ly, str(path))
+            self.cache[key] = topo
+            return topo
+        if spec.crop is not None:
+            c = spec.crop
+            try:
+                topo = topo.crop(c.x0, c.y0, c.lx, c.ly)
+            except InputError as exc:
+                raise _rewrap(exc, key) from None
+        self.cache[key] = topo
+        return topo
+
+    def array_topography(self, spec, key: str, grid_lengths):
+        from ..geometry import Topography
+
+        heights, lx, ly, source = self.topography(spec, key)
+        if lx is None:
+            if grid_lengths is None:
+                raise InputError(f"{key}.size", "required (or lx and ly) when [grid] has no size")
+            lx, ly = grid_lengths
+        nx, ny = heights.shape
+        try:
+            topo = Topography(heights, Grid(nx, ny, lx, ly, False), source, {"format": "npy"})
+            topo = topo.detrended(spec.detrend)
+            if spec.crop is not None:
+                c = spec.crop
+                topo = topo.crop(c.x0, c.y0, c.lx, c.ly)
+        except InputError as exc:
+            raise _rewrap(exc, key) from None
+        return topo
+
+
+def _grid(sc: Scenario, loader: _Loader) -> Grid:
+    nx, ny = sc.grid.shape
+    lengths = sc.grid.lengths
+    if lengths is None:
+        for body in ("body1", "body2"):
+            r = getattr(sc, body).roughness
+            key = f"{body}.roughness"
+            if r.kind == "file":
+                g = loader.topography(r, key).grid
+                lengths = (g.lx, g.ly)
+                break
+            if r.kind == "array" and (r.size is not None or r.lx is not None):
+                lengths = (r.size, r.size) if r.size is not None else (r.lx, r.ly)
+                break
+        if lengths is None:
+            raise InputError("grid.size", "required (or lx and ly): no roughness file gives the size")
+    return Grid(int(nx), int(ny), float(lengths[0]), float(lengths[1]), bool(sc.grid.periodic))
+
+
+def _shape(spec, grid: Grid, key: str) -> np.ndarray:
+    from .. import geometry as geo
+
+    try:
+        if spec.kind == "flat":
+            return geo.flat(grid)
+        if spec.kind == "sphere":
+            return geo.sphere(grid, spec.radius, exact=spec.exact, center=tuple(spec.center))
+        if spec.kind == "cylinder":
+            return geo.cylinder(grid, spec.radius, axis=spec.axis, center=spec.center)
+        if spec.kind == "wavy_sphere":
+            return geo.wavy_sphere(grid, spec.radius, spec.amplitude, spec.wavelength, center=tuple(spec.center))
+        if spec.kind == "bisinusoidal":
+            wx = spec.wavelength_x if spec.wavelength_x is not None else grid.lx
+            wy = spec.wavelength_y if spec.wavelength_y is not None else grid.ly
+            h = geo.bisinusoidal(grid, spec.amplitude, wx, wy)
+            return h - h.min()
+    except InputError as exc:
+        raise _rewrap(exc, key) from None
+    raise InputError(f"{key}.kind", f"unknown shape {spec.kind!r}")  # pragma: no cover (schema checks)
+
+
+def _roughness(spec, grid: Grid, key: str, loader: _Loader, info: dict, warns: list) -> np.ndarray:
+    from .. import geometry as geo
+
+    try:
+        if spec.kind == "none":
+            return np.zeros(grid.shape)
+        if spec.kind == "gaussian":
+            return geo.gaussian_surface(grid, spec.rms, spec.correlation_length,
+                                        correlation_length_y=spec.correlation_length_y, seed=spec.seed,
+                                        skewness=spec.skewness, kurtosis=spec.kurtosis)
+        if spec.kind == "self_affine":
+            return geo.self_affine_surface(grid, spec.hurst, rms_height=spec.rms, rms_slope=spec.rms_slope,
+                                           rolloff_wavelength=spec.rolloff, short_cutoff=spec.short_cutoff,
+                                           long_cutoff=spec.long_cutoff, seed=spec.seed)
+    except InputError as exc:
+        raise _rewrap(exc, key) from None
+    # measured: file or array
+    if spec.kind == "file":
+        topo = loader.topography(spec, key)
+    else:
+        topo = loader.array_topography(spec, key, (grid.lx, grid.ly))
+    tg = topo.grid
+    same = (tg.shape == grid.shape and math.isclose(tg.lx, grid.lx, rel_tol=1e-9)
+            and math.isclose(tg.ly, grid.ly, rel_tol=1e-9) and spec.offset == [0.0, 0.0])
+    try:
+        h = topo.heights.copy() if same else topo.resample(grid, offset=tuple(spec.offset)).heights
+        if spec.rms is not None:
+            h = geo.scale_to_rms(h, spec.rms)
+    except InputError as exc:
+        raise _rewrap(exc, key) from None
+    if spec.invert:
+        h = -h
+    info.setdefault("files", {})[key] = {
+        "path": str(topo.source or spec.path),
+        "scan_grid": [int(tg.nx), int(tg.ny)],
+        "scan_size": [float(tg.lx), float(tg.ly)],
+        "resampled": not same,
+        "format": topo.info.get("format", ""),
+        "channel": topo.info.get("channel", ""),
+        "original_unit": topo.info.get("original_unit", ""),
+    }
+    if grid.periodic:
+        warns.append(f"{key}: a measured topography is not periodic; the periodic operator repeats it "
+                     "with steps at the edges (use periodic = false for free-boundary contact)")
+    if not same and (grid.dx > 1.5 * tg.dx or grid.dy > 1.5 * tg.dy):
+        info.setdefault("notes", []).append(
+            f"{key}: scan of {tg.nx} x {tg.ny} points resampled (linear interpolation) to the "
+            f"{grid.nx} x {grid.ny} solver grid; wavelengths below {2 * grid.dx:.3g} m are aliased")
+    return h
+
+
+def _sphere_radius(sc: Scenario) -> float | None:
+    """Composite radius 1/R = 1/R1 + 1/R2 when the bodies are spheres (else None)."""
+    curv, found = 0.0, False
+    for body in (sc.body1, sc.body2):
+        s = body.shape
+        if s.kind in ("sphere", "wavy_sphere"):
+            curv += 1.0 / s.radius
+            found = True
+        elif s.kind != "flat":
+            return None
+    return 1.0 / curv if found else None
+
+
+def build_problem(scenario: Scenario, base_dir=None) -> Problem:
+    """Build the grid, materials, gap, operator and interaction of a scenario.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A validated scenario (see :func:`tribobem.scenario.parse_scenario`).
+    base_dir : path-like, optional
+        Folder that relative file paths are resolved against (the scenario file's folder;
+        default: the current directory).
+
+    Returns
+    -------
+    Problem
+
+    Raises
+    ------
+    InputError, TopographyError, MemoryBudgetError, FileNotFoundError
+    """
+    from ..elasticity.operators import make_operator
+    from ..geometry import stats as geostats
+    from ..interactions import DugdaleAdhesion
+
+    sc = scenario
+    base = Path(base_dir) if base_dir is not None else Path.cwd()
+    loader = _Loader(base)
+    grid = _grid(sc, loader)
+    grid.check_memory()
+    pair = ContactPair(body_material(sc.body1, "body1"), body_material(sc.body2, "body2"))
+
+    info: dict = {}
+    warns: list = []
+    shape1 = _shape(sc.body1.shape, grid, "body1.shape")
+    shape2 = _shape(sc.body2.shape, grid, "body2.shape")
+    rough1 = _roughness(sc.body1.roughness, grid, "body1.roughness", loader, info, warns)
+    rough2 = _roughness(sc.body2.roughness, grid, "body2.roughness", loader, info, warns)
+    gap = shape1 + shape2 - rough1 - rough2
+    if not np.all(np.isfinite(gap)):
+        raise InputError("gap", "the initial gap contains NaN or infinite values")
+    gap = gap - float(gap.min())
+
+    try:
+        if grid.periodic:
+            op = make_operator(grid, pair, backend=sc.solver.backend, kernel=sc.solver.kernel)
+        else:
+            op = make_operator(grid, pair, backend=sc.solver.backend)
+    except (ImportError, ModuleNotFoundError) as exc:
+        raise InputError("solver.backend", f"backend {sc.solver.backend!r} is not available: {exc}") from None
+
+    interaction = None
+    if sc.adhesion.enabled:
+        interaction = DugdaleAdhesion(sc.adhesion.work_of_adhesion, sc.adhesion.z0)
+
+    E_star = pair.effective_modulus
+    info.update({
+        "grid": {"nx": grid.nx, "ny": grid.ny, "lx": grid.lx, "ly": grid.ly, "dx": grid.dx, "dy": grid.dy,
+                 "periodic": grid.periodic},
+        "operator": op.kind,
+        "effective_modulus": E_star,
+        "gap_peak_to_valley": float(gap.max()),
+    })
+    radius = _sphere_radius(sc)
+    if radius is not None:
+        info["radius"] = radius
+    if interaction is not None:
+        info["sigma0"] = interaction.sigma0
+        info["h0"] = interaction.h0
+        if radius is not None:
+            info["tabor_parameter"] = interaction.tabor_parameter(radius, E_star)
+            info["maugis_parameter"] = interaction.maugis_parameter(radius, E_star)
+    for name, h in (("body1", rough1), ("body2", rough2)):
+        kind = getattr(sc, name).roughness.kind
+        if kind != "none":
+            try:
+                s = geostats.summary(h, grid)
+            except Exception as exc:  # statistics are informative only
+                s = {"error": str(exc)}
+            info.setdefault("roughness", {})[name] = {k: float(v) for k, v in s.items() if isinstance(v, (int, float))}
+    return Problem(sc, grid, pair, op, gap, rough1, rough2, shape1, shape2, interaction, info, warns, base)

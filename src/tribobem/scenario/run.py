@@ -1,0 +1,433 @@
+"""Run a scenario: parse -> build -> solve -> outputs.
+
+Kinds implemented in this version:
+
+* ``normal``: one load (``force`` or ``approach``) or a list (``forces`` / ``approaches``),
+  warm-started step to step; with ``load.unload = true`` a list is traced back down (the
+  unloading branch).  With ``[adhesion]`` the Dugdale interaction acts outside contact.
+* ``pulloff``: optional loading branch (displacement control, from separation to the
+  preload), then :func:`~tribobem.solvers.paths.pull_off` (unloading from the preload,
+  golden-section refinement of the most negative force); run-level ``pull_off_force``.
+
+``partial_slip``, ``hysteresis`` and ``capillary`` scenarios validate but do not run yet.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+import time
+import tomllib
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from ..errors import ConvergenceWarning, InputError
+from .build import Problem, build_problem
+from .schema import IMPLEMENTED_KINDS, Scenario, parse_scenario
+
+__all__ = ["RunResult", "NotImplementedKindError", "load_scenario", "read_scenario_file", "run_scenario"]
+
+
+class NotImplementedKindError(InputError):
+    """A scenario kind the schema accepts but this version cannot run."""
+
+
+@dataclass
+class RunResult:
+    """The outcome of :func:`run_scenario`.
+
+    Attributes
+    ----------
+    summary : dict
+        summary.json content (SPEC 9.1 keys).
+    fields : xarray.Dataset or None
+        fields.nc content (dims step, x, y).
+    outdir : Path or None
+        Where the files were written (None: nothing written).
+    files : dict
+        Name -> Path of the files written.
+    problem : Problem
+    results : list of NormalResult
+        The solutions stored in ``fields`` (one per step there).
+    curve : LoadCurve or None
+        The force-approach curve of list / pull-off runs.
+    """
+
+    summary: dict
+    fields: object
+    outdir: Path | None
+    files: dict = field(default_factory=dict)
+    problem: Problem | None = None
+    results: list = field(default_factory=list)
+    curve: object = None
+
+    @property
+    def converged(self) -> bool:
+        return bool(self.summary.get("converged"))
+
+    @property
+    def steps(self) -> list:
+        return self.summary.get("steps", [])
+
+    @property
+    def report(self) -> Path | None:
+        return self.files.get("report")
+
+
+# ----------------------------------------------------------------------------- loading
+def read_scenario_file(path) -> dict:
+    """Read a TOML scenario file into a dict.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    InputError
+        If it is not valid TOML (with the line and column).
+    """
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"scenario file {path} not found")
+    if path.is_dir():
+        raise InputError("scenario", f"{path} is a folder, not a scenario file")
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("scenario", f"{path} is not valid TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise InputError("scenario", f"{path} is not a UTF-8 text file: {exc}") from None
+
+
+def load_scenario(scenario, base_dir=None) -> tuple[Scenario, Path]:
+    """A validated scenario and the folder its relative paths refer to.
+
+    Parameters
+    ----------
+    scenario : dict, Scenario, str or Path
+        A dict (as from TOML), a :class:`Scenario`, or the path of a TOML file.
+    base_dir : path-like, optional
+        Overrides the folder relative paths are resolved against (default: the scenario
+        file's folder, or the current directory for dicts).
+
+    Returns
+    -------
+    (Scenario, Path)
+    """
+    source = None
+    if isinstance(scenario, (str, Path)):
+        path = Path(scenario)
+        data = read_scenario_file(path)
+        source = str(path)
+        base = Path(base_dir) if base_dir is not None else path.resolve().parent
+    else:
+        data = scenario
+        base = Path(base_dir) if base_dir is not None else Path.cwd()
+    return parse_scenario(data, source), base
+
+
+# ----------------------------------------------------------------------------- progress
+class _RichProgress:
+    """A Rich progress bar on stderr, fed by ``progress(done, total)`` callbacks."""
+
+    def __init__(self):
+        from rich.console import Console
+        from rich.progress import (BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn,
+                                   TimeElapsedColumn)
+
+        self.progress = Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
+                                 MofNCompleteColumn(), TimeElapsedColumn(), console=Console(stderr=True),
+                                 transient=False)
+        self.task = None
+
+    def __enter__(self):
+        self.progress.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        return self.progress.__exit__(*exc)
+
+    def phase(self, description: str, total: int | None):
+        if self.task is not None:
+            self.progress.update(self.task, completed=self.progress.tasks[-1].total or 0)
+        self.task = self.progress.add_task(description, total=total)
+
+    def __call__(self, done: int, total: int):
+        if self.task is None:
+            self.phase("solving", total)
+        self.progress.update(self.task, completed=done, total=total)
+
+    def finish(self):
+        if self.task is not None:
+            t = self.progress.tasks[-1]
+            self.progress.update(self.task, completed=t.total if t.total is not None else t.completed)
+
+
+class _Callback:
+    """Wraps a user callable ``progress(done, total)`` into the phase protocol."""
+
+    def __init__(self, fn: Callable[[int, int], None] | None):
+        self.fn = fn
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def phase(self, description, total):
+        pass
+
+    def __call__(self, done, total):
+        if self.fn is not None:
+            self.fn(done, total)
+
+    def finish(self):
+        pass
+
+
+def _offset(cb, offset: int, total: int):
+    return lambda done, _t: cb(offset + done, total)
+
+
+# ----------------------------------------------------------------------------- solving
+def _solve_kw(sc: Scenario) -> dict:
+    return {"tol": sc.solver.tolerance, "max_iterations": sc.solver.max_iterations}
+
+
+def _row(res, branch: str) -> dict:
+    row = res.scalars()
+    row["branch"] = branch
+    return row
+
+
+def _curve_from_rows(rows: list, control: str):
+    """A LoadCurve (with jumps) from step rows."""
+    from ..solvers.paths import LoadCurve, find_jumps
+
+    def col(k, dtype=float):
+        return np.array([r[k] for r in rows], dtype=dtype)
+
+    curve = LoadCurve(control=control, branch=np.array([r["branch"] for r in rows], dtype=object),
+                      approach=col("approach"), force=col("normal_force"), contact_area=col("contact_area"),
+                      adhesive_area=col("adhesive_area"), repulsive_force=col("repulsive_force"),
+                      adhesive_force=col("adhesive_force"), iterations=col("iterations", int),
+                      converged=col("converged", bool), steps=rows)
+    curve.jumps = find_jumps(curve)
+    return curve
+
+
+def _run_normal(pb: Problem, bar) -> dict:
+    from ..solvers.normal import solve_normal
+    from ..solvers.paths import approach_curve, force_curve
+
+    sc, load = pb.scenario, pb.scenario.load
+    kw = _solve_kw(sc)
+    inter = pb.interaction
+    out: dict = {"run": {}}
+    if load.force is not None or load.approach is not None:
+        bar.phase("solving", 1)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            if load.force is not None:
+                res = solve_normal(pb.operator, pb.gap, force=load.force, interaction=inter, **kw)
+            else:
+                res = solve_normal(pb.operator, pb.gap, approach=load.approach, interaction=inter, **kw)
+        bar(1, 1)
+        out.update(rows=[_row(res, "loading")], results=[res], labels=["loading 0"], indices=[0], curve=None)
+        return out
+    unload = bool(load.unload)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        if load.forces is not None:
+            bar.phase("force steps", len(load.forces) * (2 if unload else 1))
+            curve = force_curve(pb.operator, pb.gap, load.forces, interaction=inter, unload=unload,
+                                keep_fields=True, progress=bar, **kw)
+        else:
+            bar.phase("approach steps", len(load.approaches) * (2 if unload else 1))
+            curve = approach_curve(pb.operator, pb.gap, load.approaches, interaction=inter, unload=unload,
+                                   keep_fields=True, progress=bar, **kw)
+    rows = [dict(r) for r in curve.steps]
+    counters: dict = {}
+    labels = []
+    for r in rows:
+        k = counters.get(r["branch"], 0)
+        counters[r["branch"]] = k + 1
+        labels.append(f"{r['branch']} {k}")
+    if inter is not None and np.any(curve.converged) and np.nanmin(curve.force) < 0:
+        out["run"]["pull_off_force"] = curve.pull_off_force
+        out["run"]["pull_off_approach"] = curve.pull_off_approach
+    if unload:
+        out["run"]["hysteresis_energy"] = curve.hysteresis_energy
+    out.update(rows=rows, results=list(curve.results), labels=labels, indices=list(range(len(rows))), curve=curve)
+    return out
+
+
+def _run_pulloff(pb: Problem, bar) -> dict:
+    from ..solvers.normal import solve_normal
+    from ..solvers.paths import approach_curve, pull_off
+
+    sc, load = pb.scenario, pb.scenario.load
+    kw = _solve_kw(sc)
+    inter = pb.interaction
+    n_load = max(load.steps // 2, 4) if load.loading else 0
+    total = 1 + n_load + load.steps + load.refine + 1
+    bar.phase("pull-off", total)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        start = solve_normal(pb.operator, pb.gap, force=load.preload, interaction=inter, **kw)
+        bar(1, total)
+        rows: list = []
+        if load.loading and math.isfinite(start.approach):
+            d0 = -2.0 * inter.h0
+            approaches = np.linspace(d0, start.approach, n_load)
+            loading = approach_curve(pb.operator, pb.gap, approaches, interaction=inter, unload=False,
+                                     progress=_offset(bar, 1, total), **kw)
+            rows += [dict(r) for r in loading.steps]
+        po = pull_off(pb.operator, pb.gap, inter, preload=load.preload, control=load.control, n_steps=load.steps,
+                      refine=load.refine, progress=_offset(bar, 1 + n_load, total), **kw)
+        n_loading = len(rows)
+        rows += [dict(r, branch="unloading") for r in po.curve.steps]  # force control labels them "loading"
+        at = po.state  # the state at pull-off, on the branch the unloading followed
+        bar(total, total)
+    curve = _curve_from_rows(rows, "displacement" if load.control == "displacement" else "force")
+    if load.control == "force":  # the force-controlled jump-off (no equilibrium beyond it)
+        seen = {(j["index"], j["kind"]) for j in curve.jumps}
+        for j in po.curve.jumps:
+            jj = dict(j, index=int(j["index"]) + n_loading, branch="unloading")
+            if jj["kind"] == "jump-off" and (jj["index"], "jump-off") not in seen:
+                curve.jumps.append(jj)
+        curve.jumps.sort(key=lambda j: j["index"])
+    run = {"pull_off_force": po.force, "pull_off_approach": po.approach, "pull_off_control": load.control}
+    if load.loading:
+        run["hysteresis_energy"] = curve.hysteresis_energy
+    # index of the preload state in the steps: the first unloading row is the preload
+    idx_pre = n_loading if len(rows) > n_loading else -1
+    return {"rows": rows, "results": [start, at], "labels": ["preload", "pull-off"], "indices": [idx_pre, -1],
+            "curve": curve, "run": run}
+
+
+def _progress_handler(progress, quiet: bool):
+    if callable(progress):
+        return _Callback(progress)
+    if progress and not quiet:
+        return _RichProgress()
+    return _Callback(None)
+
+
+def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base_dir=None) -> RunResult:
+    """Run a scenario and (optionally) write its result folder.
+
+    Parameters
+    ----------
+    scenario : dict, Scenario, str or Path
+        The scenario, or the path of its TOML file (relative file paths inside it are
+        resolved against the file's folder).
+    outdir : path-like, optional
+        Result folder: summary.json, fields.nc, figures (PNG) and report.html are written
+        there (atomically).  None: nothing is written.
+    progress : bool or callable
+        True: a Rich progress bar on stderr (unless ``quiet``); a callable is called as
+        ``progress(done, total)``; False: nothing.
+    quiet : bool
+        Suppress the progress bar.
+    base_dir : path-like, optional
+        Folder for relative paths (default: the scenario file's folder / the current one).
+
+    Returns
+    -------
+    RunResult
+
+    Raises
+    ------
+    InputError (incl. ScenarioError, NotImplementedKindError), TopographyError,
+    MemoryBudgetError, FileNotFoundError
+    """
+    t0 = time.perf_counter()
+    sc, base = load_scenario(scenario, base_dir)
+    if sc.kind not in IMPLEMENTED_KINDS:
+        raise NotImplementedKindError(
+            "kind", f"{sc.kind!r} runs are not implemented yet in this version "
+                    f"(available: {', '.join(IMPLEMENTED_KINDS)}); the scenario itself is valid")
+    pb = build_problem(sc, base)
+    t_build = time.perf_counter()
+
+    with _progress_handler(progress, quiet) as bar:
+        out = _run_normal(pb, bar) if sc.kind == "normal" else _run_pulloff(pb, bar)
+        bar.finish()
+    t_solve = time.perf_counter()
+
+    rows = out["rows"]
+    for i, r in enumerate(rows):
+        r["index"] = i
+    converged = bool(rows) and all(bool(r.get("converged")) for r in rows)
+    warns = list(pb.warnings)
+    if not converged:
+        bad = sum(1 for r in rows if not r.get("converged"))
+        msg = (f"{bad} of {len(rows)} step(s) did not converge (tolerance {sc.solver.tolerance:g}, "
+               f"max_iterations {sc.solver.max_iterations}); see summary.json steps")
+        warns.append(msg)
+        warnings.warn(msg, ConvergenceWarning, stacklevel=2)
+    curve = out.get("curve")
+
+    from ..output.summary import versions
+
+    summary = {
+        "kind": sc.kind,
+        "converged": converged,
+        "inputs": sc.model_dump(mode="json"),
+        "versions": versions(),
+        "timings": {"build": t_build - t0, "solve": t_solve - t_build},
+        "steps": rows,
+        **out["run"],
+        "jumps": [dict(j) for j in curve.jumps] if curve is not None else [],
+        "problem": pb.info,
+        "warnings": warns,
+        "created": _dt.datetime.now().isoformat(timespec="seconds"),
+    }
+
+    # fields
+    keep = sc.output.fields
+    results, labels, indices = out["results"], out["labels"], out["indices"]
+    if keep == "last" and len(results) > 1:
+        if "pull-off" in labels:
+            sel = [labels.index("pull-off")]
+        else:
+            sel = [int(np.nanargmax([r.force for r in results]))]
+        results, labels, indices = [results[i] for i in sel], [labels[i] for i in sel], [indices[i] for i in sel]
+    elif keep == "none":
+        results, labels, indices = [], [], []
+    from ..output.fields import build_fields
+
+    attrs = {"title": sc.name or f"tribobem {sc.kind} run", "kind": sc.kind,
+             "tribobem_version": summary["versions"]["tribobem"],
+             "effective_modulus": pb.info.get("effective_modulus"), "operator": pb.info.get("operator")}
+    ds = build_fields(pb.grid, results, labels, initial_gap=pb.gap,
+                      roughness1=pb.roughness1 if sc.body1.roughness.kind != "none" else None,
+                      roughness2=pb.roughness2 if sc.body2.roughness.kind != "none" else None,
+                      summary_steps=indices, attrs=attrs)
+
+    files = {}
+    out_path = None
+    if outdir is not None:
+        from ..output import write_outputs
+
+        out_path = Path(outdir)
+        t_out = time.perf_counter()
+        summary["timings"]["output"] = 0.0
+        summary["timings"]["total"] = t_out - t0
+        files = write_outputs(out_path, summary, ds if keep != "none" else None,
+                              figures=sc.output.figures, report=sc.output.report)
+        summary["timings"]["output"] = time.perf_counter() - t_out
+        summary["timings"]["total"] = time.perf_counter() - t0
+        from ..output.summary import write_summary
+
+        files["summary"] = write_summary(out_path / "summary.json", summary)
+    else:
+        summary["timings"]["total"] = time.perf_counter() - t0
+    return RunResult(summary=summary, fields=ds, outdir=out_path, files=files, problem=pb,
+                     results=results, curve=curve)

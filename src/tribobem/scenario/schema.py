@@ -1,0 +1,661 @@
+"""The scenario file schema (SPEC 9.1): pydantic v2 models with strict key checking.
+
+A scenario is a TOML file (or a dict) with the sections ``[grid]``, ``[body1]``, ``[body2]``,
+``[load]``, ``[adhesion]``, ``[friction]``, ``[humidity]``, ``[solver]`` and ``[output]``
+and the top-level keys ``kind``, ``name`` and ``description``.
+
+* Unknown keys are errors that name the key and list the allowed ones.
+* Values with a dimension may be numbers (SI) or strings with a unit (``"10 uN"``), parsed by
+  :mod:`tribobem.units`; a value of the wrong dimension is an error naming the key.
+* Ranges are checked (``nu`` in (-1, 0.5], ``E > 0``, ``n >= 8``, ``rh`` in (0, 1], ...).
+
+:func:`parse_scenario` turns a dict into a :class:`Scenario` with every quantity in SI, or
+raises :class:`ScenarioError` (an :class:`~tribobem.errors.InputError`) whose message lists
+each problem as ``section.key: what is wrong``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal, Optional, Union
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, StrictBool, ValidationError, model_validator
+from pydantic_core import PydanticCustomError
+
+from ..errors import InputError
+from ..units import DIMENSIONS, UnitMismatch, convert
+
+__all__ = [
+    "KINDS",
+    "IMPLEMENTED_KINDS",
+    "Scenario",
+    "ScenarioError",
+    "parse_scenario",
+    "GridSpec",
+    "BodySpec",
+    "LoadSpec",
+    "AdhesionSpec",
+    "FrictionSpec",
+    "HumiditySpec",
+    "SolverSpec",
+    "OutputSpec",
+]
+
+#: Run kinds the schema accepts (SPEC 9.1).
+KINDS = ("normal", "pulloff", "partial_slip", "hysteresis", "capillary")
+#: Run kinds this version can run.
+IMPLEMENTED_KINDS = ("normal", "pulloff")
+
+
+# ----------------------------------------------------------------------------- errors
+class ScenarioError(InputError):
+    """One or more problems in a scenario; ``errors`` lists ``(field, message)`` pairs."""
+
+    def __init__(self, errors: list[tuple[str, str]], source: str | None = None):
+        self.errors = list(errors)
+        self.source = source
+        first_field, first_msg = self.errors[0]
+        self.field = first_field
+        where = f" in {source}" if source else ""
+        if len(self.errors) == 1:
+            text = f"{first_field}: {first_msg}"
+            if source:
+                text = f"{text} ({source})"
+        else:
+            text = f"{len(self.errors)} problems{where}: " + "; ".join(f"{f}: {m}" for f, m in self.errors)
+        Exception.__init__(self, text)
+
+
+def _fail(key: str | None, message: str):
+    """Raise a validation error for ``key`` (dotted, relative to the current section)."""
+    raise PydanticCustomError("scenario", "{message}", {"message": message, "key": key or ""})
+
+
+def _fmt(v) -> str:
+    return f"{v:g}" if isinstance(v, float) else repr(v)
+
+
+def _range_text(gt=None, ge=None, lt=None, le=None, unit: str = "") -> str:
+    u = f" {unit}" if unit else ""
+    lo = f"({_fmt(gt)}" if gt is not None else (f"[{_fmt(ge)}" if ge is not None else None)
+    hi = f"{_fmt(lt)})" if lt is not None else (f"{_fmt(le)}]" if le is not None else None)
+    if lo and hi:
+        return f"in {lo}, {hi}{u}"
+    if gt is not None:
+        return f"> {_fmt(gt)}{u}"
+    if ge is not None:
+        return f">= {_fmt(ge)}{u}"
+    if lt is not None:
+        return f"< {_fmt(lt)}{u}"
+    if le is not None:
+        return f"<= {_fmt(le)}{u}"
+    return "finite"
+
+
+def _check_range(v: float, raw, gt, ge, lt, le, unit: str, allow_inf: bool = False) -> float:
+    if math.isnan(v) or (math.isinf(v) and not allow_inf):
+        raise PydanticCustomError("range", "{message}", {"message": f"must be a finite number, got {raw!r}"})
+    bad = ((gt is not None and not v > gt) or (ge is not None and not v >= ge)
+           or (lt is not None and not v < lt) or (le is not None and not v <= le))
+    if bad:
+        got = repr(raw) if isinstance(raw, str) else _fmt(v)
+        raise PydanticCustomError("range", "{message}", {"message": f"must be {_range_text(gt, ge, lt, le, unit)}, got {got}"})
+    return v
+
+
+def Quantity(dimension: str, *, gt=None, ge=None, lt=None, le=None, allow_inf: bool = False):
+    """A float with a dimension: number (SI) or string with a unit, range-checked."""
+    unit = DIMENSIONS[dimension][1]
+
+    def validate(raw):
+        try:
+            v = convert(raw, dimension)
+        except UnitMismatch as exc:
+            raise PydanticCustomError("quantity", "{message}", {"message": str(exc)}) from None
+        return _check_range(v, raw, gt, ge, lt, le, unit, allow_inf)
+
+    return Annotated[float, BeforeValidator(validate)]
+
+
+def Number(*, gt=None, ge=None, lt=None, le=None):
+    """A dimensionless float (a number, or a string such as ``"30 %"``), range-checked."""
+    return Quantity("dimensionless", gt=gt, ge=ge, lt=lt, le=le)
+
+
+def Int(*, ge=None, le=None):
+    """An integer (no bools, no fractional floats), range-checked."""
+
+    def validate(raw):
+        if isinstance(raw, bool) or not (isinstance(raw, int) or (isinstance(raw, float) and raw.is_integer())):
+            raise PydanticCustomError("int", "{message}", {"message": f"must be an integer, got {raw!r}"})
+        v = int(raw)
+        if (ge is not None and v < ge) or (le is not None and v > le):
+            raise PydanticCustomError("range", "{message}", {"message": f"must be an integer {_range_text(ge=ge, le=le)}, got {raw!r}"})
+        return v
+
+    return Annotated[int, BeforeValidator(validate)]
+
+
+def QuantityList(dimension: str, *, gt=None, ge=None, lt=None, le=None, min_length: int = 1):
+    """A list of quantities, or a table ``{start, stop, num}`` (evenly spaced, both ends in)."""
+    unit = DIMENSIONS[dimension][1]
+
+    def one(raw, i):
+        try:
+            v = convert(raw, dimension)
+        except UnitMismatch as exc:
+            raise PydanticCustomError("quantity", "{message}", {"message": f"item {i}: {exc}"}) from None
+        try:
+            return _check_range(v, raw, gt, ge, lt, le, unit)
+        except PydanticCustomError as exc:
+            raise PydanticCustomError("range", "{message}", {"message": f"item {i}: {exc.context['message']}"}) from None
+
+    def validate(raw):
+        if isinstance(raw, dict):
+            extra = set(raw) - {"start", "stop", "num"}
+            if extra or not {"start", "stop", "num"} <= set(raw):
+                raise PydanticCustomError("scenario", "{message}", {"message": (
+                    "a range table needs exactly the keys start, stop, num"
+                    + (f" (unknown: {', '.join(sorted(extra))})" if extra else ""))})
+            num = raw["num"]
+            if isinstance(num, bool) or not isinstance(num, int) or num < 1:
+                raise PydanticCustomError("scenario", "{message}", {"message": f"num must be an integer >= 1, got {num!r}"})
+            a, b = one(raw["start"], "start"), one(raw["stop"], "stop")
+            if num == 1:
+                return [a]
+            return [float(f"{a + (b - a) * k / (num - 1):.14g}") for k in range(num)]
+        if isinstance(raw, (str, int, float)) and not isinstance(raw, bool):
+            raw = [raw]
+        if not isinstance(raw, (list, tuple)):
+            raise PydanticCustomError("scenario", "{message}", {"message": f"must be a list (or {{start, stop, num}}), got {raw!r}"})
+        if len(raw) < min_length:
+            raise PydanticCustomError("scenario", "{message}", {"message": f"needs at least {min_length} value(s)"})
+        return [one(v, i) for i, v in enumerate(raw)]
+
+    return Annotated[list[float], BeforeValidator(validate)]
+
+
+# ----------------------------------------------------------------------------- base class
+class Section(BaseModel):
+    """Base of every scenario section: unknown keys are errors that list the allowed keys."""
+
+    model_config = ConfigDict(extra="forbid", populate_by_name=False, validate_assignment=False)
+
+    @classmethod
+    def allowed_keys(cls) -> list[str]:
+        return list(cls.model_fields)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any):
+        if isinstance(data, dict):
+            allowed = cls.allowed_keys()
+            for key in data:
+                if key not in allowed:
+                    raise PydanticCustomError(
+                        "unknown_key", "unknown key {key!r}; allowed keys: {allowed}",
+                        {"key": str(key), "allowed": ", ".join(allowed)},
+                    )
+        return data
+
+
+# ----------------------------------------------------------------------------- grid
+class GridSpec(Section):
+    """``[grid]``: ``n`` (or ``nx`` and ``ny``) cells, ``size`` (or ``lx`` and ``ly``), ``periodic``.
+
+    ``size`` may be left out when a body's roughness is a measured file: the grid then takes
+    the file's physical size (after cropping).
+    """
+
+    n: Optional[Int(ge=8)] = None
+    nx: Optional[Int(ge=8)] = None
+    ny: Optional[Int(ge=8)] = None
+    size: Optional[Quantity("length", gt=0)] = None
+    lx: Optional[Quantity("length", gt=0)] = None
+    ly: Optional[Quantity("length", gt=0)] = None
+    periodic: StrictBool = False
+
+    @model_validator(mode="after")
+    def _combos(self):
+        if self.n is not None and (self.nx is not None or self.ny is not None):
+            _fail("n", "give n or nx and ny, not both")
+        if self.n is None:
+            if self.nx is None and self.ny is None:
+                _fail("n", "required: the number of cells per side (or nx and ny), >= 8")
+            if self.nx is None or self.ny is None:
+                _fail("ny" if self.ny is None else "nx", "nx and ny go together")
+        if self.size is not None and (self.lx is not None or self.ly is not None):
+            _fail("size", "give size or lx and ly, not both")
+        if (self.lx is None) != (self.ly is None):
+            _fail("ly" if self.ly is None else "lx", "lx and ly go together")
+        return self
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.n, self.n) if self.n is not None else (self.nx, self.ny)
+
+    @property
+    def lengths(self) -> tuple[float, float] | None:
+        """(lx, ly) in m, or None when the size comes from a topography file."""
+        if self.size is not None:
+            return (self.size, self.size)
+        if self.lx is not None:
+            return (self.lx, self.ly)
+        return None
+
+
+# ----------------------------------------------------------------------------- roughness
+class CropSpec(Section):
+    """Region of a measured file, from its lower-left corner (m)."""
+
+    x0: Quantity("length", ge=0) = 0.0
+    y0: Quantity("length", ge=0) = 0.0
+    lx: Quantity("length", gt=0)
+    ly: Quantity("length", gt=0)
+
+
+Pair = Annotated[list[Quantity("length")], Field(min_length=2, max_length=2)]
+
+
+class NoRoughness(Section):
+    kind: Literal["none"] = "none"
+
+
+class GaussianRoughness(Section):
+    """Gaussian surface with an exponential ACF (Hu and Tonder)."""
+
+    kind: Literal["gaussian"]
+    rms: Quantity("length", ge=0)
+    correlation_length: Quantity("length", gt=0)
+    correlation_length_y: Optional[Quantity("length", gt=0)] = None
+    seed: Optional[Int(ge=0)] = None
+    skewness: Optional[Number()] = None
+    kurtosis: Optional[Number(gt=1)] = None
+
+
+class SelfAffineRoughness(Section):
+    """Self-affine surface with Persson's PSD; give ``rms`` or ``rms_slope``."""
+
+    kind: Literal["self_affine"]
+    hurst: Number(gt=0, le=1)
+    rms: Optional[Quantity("length", ge=0)] = None
+    rms_slope: Optional[Number(ge=0)] = None
+    rolloff: Optional[Quantity("length", gt=0)] = None
+    short_cutoff: Optional[Quantity("length", gt=0)] = None
+    long_cutoff: Optional[Quantity("length", gt=0)] = None
+    seed: Optional[Int(ge=0)] = None
+
+    @model_validator(mode="after")
+    def _one_rms(self):
+        if (self.rms is None) == (self.rms_slope is None):
+            _fail("rms", "give exactly one of rms (m) or rms_slope (-)")
+        return self
+
+
+Detrend = Literal["none", "center", "height", "curvature"]
+
+
+class FileRoughness(Section):
+    """A measured topography file (any format SurfaceTopography reads).
+
+    ``path`` is relative to the scenario file's folder.  The scan is detrended, optionally
+    cropped (``crop = {x0, y0, lx, ly}``), then resampled onto the solver grid, whose centre
+    sits at ``offset`` (m) from the centre of the (cropped) scan.  ``rms`` rescales the heights;
+    ``invert = true`` flips them (valleys become peaks).
+    """
+
+    kind: Literal["file"]
+    path: str
+    channel: Optional[Union[int, str]] = None
+    detrend: Detrend = "center"
+    fill: Literal["harmonic", "none"] = "harmonic"
+    unit: Optional[str] = None
+    physical_size: Optional[Pair] = None
+    crop: Optional[CropSpec] = None
+    offset: Pair = Field(default_factory=lambda: [0.0, 0.0])
+    rms: Optional[Quantity("length", ge=0)] = None
+    invert: StrictBool = False
+
+
+class ArrayRoughness(Section):
+    """Heights from a ``.npy`` file (``unit`` of the values, default m) of physical ``size``
+    (or ``lx``, ``ly``; default: the grid's size, and then the array must match the grid)."""
+
+    kind: Literal["array"]
+    path: str
+    size: Optional[Quantity("length", gt=0)] = None
+    lx: Optional[Quantity("length", gt=0)] = None
+    ly: Optional[Quantity("length", gt=0)] = None
+    unit: str = "m"
+    detrend: Detrend = "none"
+    crop: Optional[CropSpec] = None
+    offset: Pair = Field(default_factory=lambda: [0.0, 0.0])
+    rms: Optional[Quantity("length", ge=0)] = None
+    invert: StrictBool = False
+
+    @model_validator(mode="after")
+    def _sizes(self):
+        if self.size is not None and (self.lx is not None or self.ly is not None):
+            _fail("size", "give size or lx and ly, not both")
+        if (self.lx is None) != (self.ly is None):
+            _fail("ly" if self.ly is None else "lx", "lx and ly go together")
+        return self
+
+
+ROUGHNESS_KINDS = ("none", "gaussian", "self_affine", "file", "array")
+Roughness = Annotated[
+    Union[NoRoughness, GaussianRoughness, SelfAffineRoughness, FileRoughness, ArrayRoughness],
+    Field(discriminator="kind"),
+]
+
+
+# ----------------------------------------------------------------------------- shapes
+class FlatShape(Section):
+    kind: Literal["flat"] = "flat"
+
+
+class SphereShape(Section):
+    """Sphere of ``radius`` (paraboloid, or the exact cap with ``exact = true``)."""
+
+    kind: Literal["sphere"]
+    radius: Quantity("length", gt=0)
+    exact: StrictBool = False
+    center: Pair = Field(default_factory=lambda: [0.0, 0.0])
+
+
+class CylinderShape(Section):
+    kind: Literal["cylinder"]
+    radius: Quantity("length", gt=0)
+    axis: Literal["x", "y"] = "y"
+    center: Quantity("length") = 0.0
+
+
+class WavySphereShape(Section):
+    """r^2/(2R) + A (1 - cos(2 pi r / wavelength)) (Guduru; Paper A)."""
+
+    kind: Literal["wavy_sphere"]
+    radius: Quantity("length", gt=0)
+    amplitude: Quantity("length", ge=0)
+    wavelength: Quantity("length", gt=0)
+    center: Pair = Field(default_factory=lambda: [0.0, 0.0])
+
+
+class BisinusoidalShape(Section):
+    """S cos(2 pi x/wx) cos(2 pi y/wy) (Paper A Eq. 31); wavelengths default to the grid sides."""
+
+    kind: Literal["bisinusoidal"]
+    amplitude: Quantity("length", ge=0)
+    wavelength_x: Optional[Quantity("length", gt=0)] = None
+    wavelength_y: Optional[Quantity("length", gt=0)] = None
+
+
+SHAPE_KINDS = ("flat", "sphere", "cylinder", "wavy_sphere", "bisinusoidal")
+Shape = Annotated[
+    Union[FlatShape, SphereShape, CylinderShape, WavySphereShape, BisinusoidalShape],
+    Field(discriminator="kind"),
+]
+
+
+# ----------------------------------------------------------------------------- bodies
+class BodySpec(Section):
+    """``[body1]`` / ``[body2]``: ``E`` and ``nu`` (or ``rigid = true``), ``roughness``, ``shape``.
+
+    The initial gap is ``(shape2 + roughness2) - (shape1 + roughness1)``, shifted so that its
+    minimum is 0 (first touch at approach 0).
+    """
+
+    E: Optional[Quantity("modulus", gt=0, allow_inf=True)] = None
+    nu: Optional[Number(gt=-1, le=0.5)] = None
+    rigid: StrictBool = False
+    name: Optional[str] = None
+    roughness: Roughness = Field(default_factory=NoRoughness)
+    shape: Shape = Field(default_factory=FlatShape)
+
+    @model_validator(mode="after")
+    def _material(self):
+        if self.rigid:
+            if self.E is not None and math.isfinite(self.E):
+                _fail("E", "give either E or rigid = true, not both")
+        elif self.E is None:
+            _fail("E", "required: a Young's modulus > 0 (e.g. \"130 GPa\"), or rigid = true")
+        elif math.isinf(self.E):
+            self.rigid = True
+        if not self.rigid and self.nu is None:
+            _fail("nu", "required with E: Poisson's ratio in (-1, 0.5]")
+        return self
+
+
+# ----------------------------------------------------------------------------- load and physics
+class LoadSpec(Section):
+    """``[load]``: one of ``force``, ``approach``, ``forces``, ``approaches`` (kind normal);
+    ``preload``, ``control``, ``steps``, ``refine``, ``loading`` (kind pulloff)."""
+
+    force: Optional[Quantity("force")] = None
+    approach: Optional[Quantity("length")] = None
+    forces: Optional[QuantityList("force")] = None
+    approaches: Optional[QuantityList("length")] = None
+    unload: StrictBool = False
+    preload: Optional[Quantity("force", gt=0)] = None
+    control: Literal["displacement", "force"] = "displacement"
+    steps: Int(ge=2, le=100000) = 40
+    refine: Int(ge=0, le=100) = 8
+    loading: StrictBool = True
+
+    @property
+    def given(self) -> list[str]:
+        return [k for k in ("force", "approach", "forces", "approaches") if getattr(self, k) is not None]
+
+
+class AdhesionSpec(Section):
+    """``[adhesion]``: ``model`` (none | dugdale; default dugdale when a work of adhesion is
+    given), ``work_of_adhesion`` (J/m^2), ``z0`` (m)."""
+
+    model: Optional[Literal["none", "dugdale"]] = None
+    work_of_adhesion: Optional[Quantity("surface_energy", gt=0)] = None
+    z0: Optional[Quantity("length", gt=0)] = None
+
+    @model_validator(mode="after")
+    def _complete(self):
+        if self.model is None:
+            self.model = "dugdale" if self.work_of_adhesion is not None else "none"
+        if self.model == "dugdale":
+            if self.work_of_adhesion is None:
+                _fail("work_of_adhesion", "required with model = 'dugdale' (e.g. \"50 mJ/m^2\")")
+            if self.z0 is None:
+                _fail("z0", "required with model = 'dugdale' (e.g. \"0.3 nm\")")
+        return self
+
+    @property
+    def enabled(self) -> bool:
+        return self.model == "dugdale"
+
+
+class PathSpec(Section):
+    control: Literal["force", "displacement"] = "force"
+    amplitude: Optional[Number(gt=0, le=1)] = None
+    stroke: Optional[Quantity("length", gt=0)] = None
+    cycles: Int(ge=1) = 1
+    steps: Int(ge=2) = 40
+
+
+class FrictionSpec(Section):
+    """``[friction]`` (used by partial_slip and hysteresis runs, not yet implemented)."""
+
+    coefficient: Optional[Number(ge=0)] = None
+    tangential_forces: Optional[QuantityList("force")] = None
+    path: Optional[PathSpec] = None
+
+
+class HumiditySpec(Section):
+    """``[humidity]`` (used by capillary runs, not yet implemented)."""
+
+    rh: Optional[Annotated[list[Number(gt=0, le=1)], BeforeValidator(lambda v: v if isinstance(v, list) else [v])]] = None
+    temperature: Quantity("temperature", gt=0) = 295.0
+    surface_tension: Quantity("surface_tension", gt=0) = 0.0725
+    molar_volume: Quantity("molar_volume", gt=0) = 18.05e-6
+    isotherm: Optional[str] = None
+    hamaker_solid_water_solid: Optional[Quantity("energy")] = None
+    hamaker_water_air_water: Optional[Quantity("energy")] = None
+    contribution_coefficient: StrictBool = False
+
+
+class SolverSpec(Section):
+    """``[solver]``: ``tolerance``, ``max_iterations``, ``backend`` (numpy | cupy), ``kernel``
+    (spectral | influence; periodic grids only)."""
+
+    tolerance: Number(gt=0, lt=1) = 1e-10
+    max_iterations: Int(ge=1) = 10000
+    backend: Literal["numpy", "cupy"] = "numpy"
+    kernel: Literal["spectral", "influence"] = "spectral"
+
+
+class OutputSpec(Section):
+    """``[output]``: which fields go to fields.nc (``all`` steps, the ``last``/representative
+    ones, or ``none``), and whether to draw figures and the HTML report."""
+
+    fields: Literal["all", "last", "none"] = "all"
+    figures: StrictBool = True
+    report: StrictBool = True
+
+
+# ----------------------------------------------------------------------------- scenario
+class Scenario(Section):
+    """A complete, validated scenario (all quantities in SI)."""
+
+    kind: Literal["normal", "pulloff", "partial_slip", "hysteresis", "capillary"] = "normal"
+    name: Optional[str] = None
+    description: Optional[str] = None
+    grid: GridSpec
+    body1: BodySpec
+    body2: BodySpec
+    load: LoadSpec = Field(default_factory=LoadSpec)
+    adhesion: AdhesionSpec = Field(default_factory=AdhesionSpec)
+    friction: Optional[FrictionSpec] = None
+    humidity: Optional[HumiditySpec] = None
+    solver: SolverSpec = Field(default_factory=SolverSpec)
+    output: OutputSpec = Field(default_factory=OutputSpec)
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        if self.body1.rigid and self.body2.rigid:
+            _fail("body2.rigid", "both bodies are rigid; give at least one a finite E")
+        load, adh = self.load, self.adhesion
+        if self.kind == "normal":
+            given = load.given
+            if len(given) != 1:
+                _fail("load.force" if not given else f"load.{given[1]}",
+                      "give exactly one of force, approach, forces or approaches"
+                      + (f" (got {', '.join(given)})" if given else ""))
+            if not adh.enabled:
+                if load.force is not None and load.force <= 0:
+                    _fail("load.force", f"must be > 0 N without adhesion, got {load.force:g} N "
+                          "(a tensile load needs [adhesion])")
+                if load.forces is not None and min(load.forces) <= 0:
+                    _fail("load.forces", "every force must be > 0 N without adhesion "
+                          f"(got {min(load.forces):g} N; a tensile load needs [adhesion])")
+        elif self.kind == "pulloff":
+            if not adh.enabled:
+                _fail("adhesion.model", "kind = 'pulloff' needs adhesion: model = 'dugdale' with "
+                      "work_of_adhesion and z0")
+            if load.preload is None:
+                _fail("load.preload", "required for kind = 'pulloff': the compressive force (> 0 N) "
+                      "from which the unloading starts")
+        return self
+
+    @property
+    def implemented(self) -> bool:
+        return self.kind in IMPLEMENTED_KINDS
+
+
+# ----------------------------------------------------------------------------- parsing
+_TAGGED = {"roughness": ROUGHNESS_KINDS, "shape": SHAPE_KINDS}
+
+
+def _clean_loc(loc) -> list:
+    out: list = []
+    for item in loc:
+        if out and isinstance(item, str) and out[-1] in _TAGGED and item in _TAGGED[out[-1]]:
+            continue  # the discriminated-union tag pydantic inserts
+        out.append(item)
+    return out
+
+
+def _join(loc) -> str:
+    text = ""
+    for item in loc:
+        if isinstance(item, int):
+            text += f"[{item}]"
+        else:
+            text += ("." if text else "") + str(item)
+    return text
+
+
+def _render(err: dict) -> tuple[str, str]:
+    loc = _clean_loc(err.get("loc", ()))
+    typ = err.get("type", "")
+    ctx = err.get("ctx") or {}
+    inp = err.get("input")
+    if typ == "unknown_key":
+        section = f"[{_join(loc)}]" if loc else "the top level"
+        return _join(loc + [ctx["key"]]), f"unknown key; allowed keys in {section}: {ctx['allowed']}"
+    if typ == "scenario" and ctx.get("key"):
+        return _join(loc + ctx["key"].split(".")), ctx["message"]
+    if "message" in ctx and typ in ("scenario", "quantity", "range", "int"):
+        return _join(loc), ctx["message"]
+    if typ == "missing":
+        return _join(loc), "required"
+    if typ == "literal_error":
+        return _join(loc), f"must be one of {ctx.get('expected')}, got {inp!r}"
+    if typ == "union_tag_invalid":
+        tags = ", ".join(repr(t) for t in _TAGGED.get(loc[-1] if loc else "", ())) or ctx.get("expected_tags")
+        return _join(loc + ["kind"]), f"must be one of {tags}, got {ctx.get('tag')!r}"
+    if typ == "union_tag_not_found":
+        tags = ", ".join(repr(t) for t in _TAGGED.get(loc[-1] if loc else "", ()))
+        return _join(loc + ["kind"]), f"required (one of {tags})"
+    if typ in ("model_type", "model_attributes_type", "dict_type"):
+        what = "a table of keys" if not loc or loc[-1] not in _TAGGED else "an inline table {kind = ..., ...}"
+        return _join(loc), f"must be {what}, got {inp!r}"
+    if typ in ("bool_type", "bool_parsing"):
+        return _join(loc), f"must be true or false, got {inp!r}"
+    if typ in ("string_type",):
+        return _join(loc), f"must be a string, got {inp!r}"
+    if typ in ("list_type", "too_short", "too_long"):
+        return _join(loc), f"{err.get('msg', 'invalid list')} (got {inp!r})"
+    msg = err.get("msg", "invalid value")
+    return _join(loc), f"{msg} (got {inp!r})"
+
+
+def parse_scenario(data: dict, source: str | None = None) -> Scenario:
+    """Validate a scenario dict (e.g. a parsed TOML file).
+
+    Parameters
+    ----------
+    data : dict
+        The scenario; quantities may be numbers (SI) or strings with units.
+    source : str, optional
+        Where it came from (a file name), for error messages.
+
+    Returns
+    -------
+    Scenario
+        With every quantity converted to SI.
+
+    Raises
+    ------
+    ScenarioError
+        Listing every problem as ``section.key: message``.
+    """
+    if isinstance(data, Scenario):
+        return data
+    if not isinstance(data, dict):
+        raise ScenarioError([("scenario", f"must be a table of sections, got {type(data).__name__}")], source)
+    try:
+        return Scenario.model_validate(data)
+    except ValidationError as exc:
+        errors, seen = [], set()
+        for err in exc.errors(include_url=False):
+            item = _render(err)
+            if item not in seen:
+                seen.add(item)
+                errors.append(item)
+        raise ScenarioError(errors, source) from None

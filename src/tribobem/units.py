@@ -1,0 +1,215 @@
+"""Physical quantities with units: parsing user input to SI, and choosing display units.
+
+Numbers are taken as SI already (m, N, Pa, J/m^2).  Strings may carry a unit and are parsed
+with :mod:`pint` (``"10 uN"``, ``"0.2 nm"``, ``"130 GPa"``, ``"50 mJ/m^2"``, ``"5 µm"``);
+their dimensionality is checked against the expected one, so a length given where a force is
+expected is an error that names the input key::
+
+    >>> to_si("10 uN", "force")
+    1e-05
+    >>> to_si("3 nm", "force", field="load.force")
+    Traceback (most recent call last):
+    ...
+    tribobem.errors.InputError: load.force: expected a force (N), got '3 nm'
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from functools import lru_cache
+from numbers import Real
+
+from .errors import InputError
+
+__all__ = ["DIMENSIONS", "UnitMismatch", "to_si", "convert", "registry", "display_unit", "format_quantity"]
+
+#: Known dimensions: name -> (pint dimensionality, SI unit, description used in messages).
+DIMENSIONS: dict[str, tuple[str, str, str]] = {
+    "length": ("[length]", "m", "a length"),
+    "area": ("[length] ** 2", "m^2", "an area"),
+    "force": ("[force]", "N", "a force"),
+    "pressure": ("[pressure]", "Pa", "a pressure"),
+    "modulus": ("[pressure]", "Pa", "an elastic modulus"),
+    "stress": ("[pressure]", "Pa", "a stress"),
+    "surface_energy": ("[energy] / [length] ** 2", "J/m^2", "a work of adhesion / surface energy"),
+    "surface_tension": ("[force] / [length]", "N/m", "a surface tension"),
+    "stiffness": ("[force] / [length]", "N/m", "a stiffness"),
+    "energy": ("[energy]", "J", "an energy"),
+    "temperature": ("[temperature]", "K", "a temperature"),
+    "molar_volume": ("[length] ** 3 / [substance]", "m^3/mol", "a molar volume"),
+    "time": ("[time]", "s", "a time"),
+    "dimensionless": ("", "", "a dimensionless number"),
+}
+
+# Spellings pint does not know, replaced before parsing.
+_ALIASES = (
+    (re.compile(r"\u00b5|\u03bc"), "u"),  # micro sign / Greek mu -> u (pint knows um, uN)
+    (re.compile(r"\bmicrons?\b"), "um"),
+    (re.compile(r"\u00c5|\u212b"), "angstrom"),
+)
+
+
+@lru_cache(maxsize=1)
+def registry():
+    """The shared :class:`pint.UnitRegistry` (created on first use: it takes ~0.3 s)."""
+    import pint
+
+    ureg = pint.UnitRegistry()
+    ureg.define("percent_rh = 0.01 = %RH")
+    return ureg
+
+
+def _describe(dimension: str) -> tuple[str, str, str]:
+    try:
+        return DIMENSIONS[dimension]
+    except KeyError:
+        raise ValueError(f"unknown dimension {dimension!r}; known: {', '.join(DIMENSIONS)}") from None
+
+
+class UnitMismatch(ValueError):
+    """A value that is not a valid quantity of the expected dimension (message without the
+    field name; :func:`to_si` adds it)."""
+
+
+def to_si(value, dimension: str, field: str = "value") -> float:
+    """Convert a number or a string with a unit to a float in SI units.
+
+    Parameters
+    ----------
+    value : float, int or str
+        A number (taken as SI) or a string such as ``"10 uN"`` / ``"130 GPa"``.  A string
+        without a unit (``"1e-9"``) is taken as SI too.  ``"inf"`` is accepted (a rigid
+        modulus); the caller checks ranges.
+    dimension : str
+        One of :data:`DIMENSIONS` (``"length"``, ``"force"``, ``"pressure"``,
+        ``"surface_energy"``, ...).
+    field : str
+        Name of the input (e.g. ``"load.force"``), used in error messages.
+
+    Returns
+    -------
+    float
+        The value in SI units (m, N, Pa, J/m^2, K, ...).
+
+    Raises
+    ------
+    InputError
+        If the string cannot be parsed, or has the wrong dimensionality, e.g.
+        ``load.force: expected a force (N), got '3 nm'``.
+    """
+    try:
+        return convert(value, dimension)
+    except UnitMismatch as exc:
+        raise InputError(field, str(exc)) from None
+
+
+def convert(value, dimension: str) -> float:
+    """:func:`to_si` without the field name: raises :class:`UnitMismatch` (a ValueError)."""
+    dim, si, what = _describe(dimension)
+    unit_hint = f" ({si})" if si else ""
+    if isinstance(value, bool):
+        raise UnitMismatch(f"expected {what}{unit_hint}, got {value!r}")
+    if isinstance(value, Real):
+        return float(value)
+    if not isinstance(value, str):
+        raise UnitMismatch(f"expected {what}{unit_hint} as a number or a string with a unit, got {value!r}")
+    text = value.strip()
+    if not text:
+        raise UnitMismatch(f"expected {what}{unit_hint}, got an empty string")
+    try:
+        return float(text)  # plain number in a string: SI
+    except ValueError:
+        pass
+    for pattern, repl in _ALIASES:
+        text = pattern.sub(repl, text)
+    ureg = registry()
+    try:
+        q = ureg.Quantity(text)
+    except Exception as exc:  # pint raises several types (UndefinedUnitError, DefinitionSyntaxError, ...)
+        raise UnitMismatch(f"cannot parse {value!r} as {what}{unit_hint}: {_short(exc)}") from None
+    if not hasattr(q, "dimensionality"):
+        return float(q)
+    want = ureg.Quantity(1, si).dimensionality if si else ureg.Quantity(1).dimensionality
+    if q.dimensionality != want:
+        raise UnitMismatch(f"expected {what}{unit_hint}, got {value!r}")
+    try:
+        out = float(q.to(si).magnitude) if si else float(q.to("").magnitude)
+    except Exception as exc:  # offset units (degC) etc.
+        raise UnitMismatch(f"cannot convert {value!r} to {si or 'a number'}: {_short(exc)}") from None
+    if math.isnan(out):
+        raise UnitMismatch(f"expected {what}{unit_hint}, got NaN")
+    # round away the binary noise of the prefix conversion (10 uN -> 1e-05, not 9.999...e-06)
+    return float(f"{out:.14g}") if math.isfinite(out) else out
+
+
+def _short(exc: BaseException) -> str:
+    return " ".join(str(exc).split())[:200]
+
+
+# ----------------------------------------------------------------------------- display units
+_PREFIXES = (("G", 1e9), ("M", 1e6), ("k", 1e3), ("", 1.0), ("m", 1e-3), ("u", 1e-6), ("n", 1e-9), ("p", 1e-12),
+             ("f", 1e-15), ("a", 1e-18))
+_LENGTH_CHOICES = (("m", 1.0), ("mm", 1e-3), ("um", 1e-6), ("nm", 1e-9), ("pm", 1e-12))
+
+
+def display_unit(values, dimension: str, ascii_only: bool = False) -> tuple[float, str]:
+    """A readable display unit for a set of values.
+
+    Parameters
+    ----------
+    values : array_like or float
+        Values in SI units.
+    dimension : {"length", "force", "pressure", "area", "energy"}
+    ascii_only : bool
+        Write "u" instead of the micro sign.
+
+    Returns
+    -------
+    (factor, label)
+        Divide SI values by ``factor`` to express them in ``label`` (e.g. ``(1e-9, "nm")``).
+        The unit is chosen so that the largest magnitude lies in [1, 1000).
+    """
+    import numpy as np
+
+    a = np.abs(np.asarray(values, dtype=float))
+    a = a[np.isfinite(a) & (a > 0)]
+    peak = float(a.max()) if a.size else 1.0
+    micro = "u" if ascii_only else "\u00b5"
+    if dimension == "length":
+        choices = _LENGTH_CHOICES
+        base = None
+    elif dimension == "area":
+        choices = (("m\u00b2", 1.0), ("mm\u00b2", 1e-6), (f"{micro}m\u00b2", 1e-12), ("nm\u00b2", 1e-18))
+        if ascii_only:
+            choices = (("m^2", 1.0), ("mm^2", 1e-6), ("um^2", 1e-12), ("nm^2", 1e-18))
+        base = None
+    else:
+        base = {"force": "N", "pressure": "Pa", "energy": "J"}.get(dimension)
+        if base is None:
+            return 1.0, DIMENSIONS.get(dimension, ("", "", ""))[1]
+        choices = tuple((p + base, f) for p, f in _PREFIXES)
+        if dimension == "pressure":  # kPa..GPa only
+            choices = tuple(c for c in choices if c[1] >= 1.0)
+    for label, factor in choices:
+        if peak >= factor * (1 - 1e-12):
+            break
+    label = label.replace("u", micro, 1) if (label.startswith("u") and not ascii_only) else label
+    return factor, label
+
+
+def format_quantity(value, dimension: str, digits: int = 4, ascii_only: bool = False) -> str:
+    """``value`` (SI) as a string in a readable unit, e.g. ``format_quantity(1.2e-6, "force")
+    == '1.2 µN'``."""
+    if value is None:
+        return "n/a"
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return str(value)
+    if not math.isfinite(v):
+        return str(v)
+    factor, label = display_unit([v], dimension, ascii_only=ascii_only)
+    scaled = v / factor
+    text = f"{scaled:.0f}" if abs(scaled) >= 10**digits and abs(scaled) < 1e7 else f"{scaled:.{digits}g}"
+    return f"{text} {label}".strip()
