@@ -201,6 +201,7 @@ def free_boundary_operator(grid: Grid, pair: ContactPair, components=("z",), bac
     _check_components(components)
     if grid.periodic:
         grid = Grid(grid.nx, grid.ny, grid.lx, grid.ly, False)
+    grid.check_memory(n_components=len(components))  # before any large allocation
     spectra = _free_boundary_cached(grid, pair, components, be.name)
     return ConvolutionOperator(grid, pair, components, spectra, (2 * grid.nx, 2 * grid.ny), be, "free boundary (DC-FFT)")
 
@@ -268,6 +269,7 @@ def periodic_operator(grid: Grid, pair: ContactPair, components=("z",), kernel: 
                                   "use free_boundary_operator for coupled normal-tangential problems")
     if not grid.periodic:
         grid = Grid(grid.nx, grid.ny, grid.lx, grid.ly, True)
+    grid.check_memory()  # before any large allocation
     spectra = _periodic_cached(grid, pair, kernel, n_alias, be.name)
     return ConvolutionOperator(grid, pair, components, spectra, grid.shape, be, f"periodic ({kernel})")
 
