@@ -322,7 +322,10 @@ class _CGState:
 
         # Step 4: step length from r = K t (mean-free on the contact under force control).
         r = None
-        if n_c > 0 and G > 0:
+        # A contact gap at round-off level (e.g. the first step of a warm start at a new
+        # load) gives no usable step: tau would be a ratio of round-off; only the force
+        # balance below acts.
+        if n_c > 0 and G > (1e-13 * self.h_scale) ** 2 * n_c:
             self.t_full.fill(0.0)
             self.t_full[idx] = t_c
             r = op.apply(self.t_full.reshape(self.shape)).ravel()
@@ -331,6 +334,10 @@ class _CGState:
             if self.force_control:
                 rt -= float(r_c.mean()) * float(t_c.sum())
             self.tau = _dot(g_c, t_c) / rt if rt > 0 else self.tau0
+        elif n_c > 0:
+            self.tau = 0.0
+        else:
+            self.tau = self.tau0  # no contact yet: penetrating nodes enter with p = -g / K_00
         tau = self.tau
 
         # Step 5: update on the contact; every node's status from the full gap.
@@ -355,7 +362,7 @@ class _CGState:
 
         if not changed:
             p[idx] = p_c_new
-            diff = float(xp.abs(tau * t_c).sum())
+            diff = float(xp.abs(tau * t_c).sum()) if not self.force_control else None
         else:
             # Rebuild the sets: leavers take the outside stress of their gap, overlapping
             # nodes enter with p = s(g) - tau g (Paper A Eq. 21).
@@ -395,11 +402,11 @@ class _CGState:
                 return ("the contact cannot carry the requested force: the load is beyond "
                         "pull-off (no equilibrium under force control)")
             new_c = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
-            if abs(scale - 1.0) > 0.1:
+            if abs(scale - 1.0) > 1e-2:
                 # A large rescale (first step after a load change) moves every gap: the old
                 # conjugate direction no longer belongs to this problem.
                 self.conjugate = False
-            if diff is not None:
+            if not changed:  # same nodes: the change includes the force-balance rescale
                 diff = float(xp.abs(new_c - p_c_old).sum())
             p[idx] = new_c
 
@@ -411,24 +418,28 @@ class _CGState:
             diff = float(work.sum())
         norm = float(xp.abs(p).sum()) if (self.has_outside or floor != 0.0) else float(p[idx].sum())
         self.error = diff / norm if norm > 0 else diff
+        if self.error < 1e-3 * self.gap_residual:
+            # The pressure has stopped moving while gaps stay open: the conjugate direction
+            # has degenerated (e.g. parallel to the pressure, which the force balance
+            # undoes); restart from steepest descent.
+            self.conjugate = False
 
         # New displacement: incremental while nothing changed status, else exact.
+        #   u <- s (u - tau K t) + (1 - s) W,  W = K(p_out + floor 1_C)
         self.since_exact += 1
-        if not changed and r is not None and self.since_exact < self.refresh:
-            W = self._W()
-            u = self.u
-            if scale != 1.0:
-                xp.multiply(r, -tau * scale, out=self.work)
-                u *= scale
-                u += self.work
-                if not isinstance(W, float):
-                    u += (1.0 - scale) * W
-            else:
-                xp.multiply(r, -tau, out=self.work)
-                u += self.work
-            self.u_exact = False
-        elif not changed and r is None:
-            pass  # nothing moved (no contact node, no status change)
-        else:
+        moved = r is not None or scale != 1.0
+        if not changed and self.since_exact < self.refresh:
+            if moved:
+                u = self.u
+                if r is not None:
+                    xp.multiply(r, -tau, out=self.work)
+                    u += self.work
+                if scale != 1.0:
+                    u *= scale
+                    W = self._W()
+                    if not isinstance(W, float):
+                        u += (1.0 - scale) * W
+                self.u_exact = False
+        elif changed or moved:
             self.make_exact()
         return None
