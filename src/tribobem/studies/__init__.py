@@ -1,0 +1,29 @@
+"""Parameter studies that reproduce the thesis' numerical results (built on the public API).
+
+- :mod:`.bisinusoidal`: pull-off force of a bisinusoidal interface with Dugdale adhesion
+  (Paper A section 6, Tables 1-2), and the fit ``F = a E*^beta R_c^(1+beta) dgamma^(1-beta) k^b``.
+- :mod:`.rough_ball`: a smooth ball on a Gaussian rough flat scaled to several rms (Paper A
+  section 7, Paper D section 3.2): pull-off, adhesive force and area ratio against rms.
+- :mod:`.afm_pulloff`: pull-off of a colloidal probe on sub-windows ("spots") of a measured
+  AFM scan (Paper C, vacuum state).
+"""
+
+from .bisinusoidal import (
+    PAPER_A_FIT,
+    PullOffFit,
+    bisinusoidal_cell,
+    bisinusoidal_gap,
+    bisinusoidal_pull_off,
+    fit_pull_off,
+    pull_off_point,
+)
+
+__all__ = [
+    "PAPER_A_FIT",
+    "PullOffFit",
+    "bisinusoidal_cell",
+    "bisinusoidal_gap",
+    "bisinusoidal_pull_off",
+    "fit_pull_off",
+    "pull_off_point",
+]
