@@ -1,0 +1,244 @@
+"""Sweeps: spec parsing, resumability, atomic point files, gathering, failures, Dask."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tribobem.errors import InputError
+from tribobem.sweep import SweepSpec, point_hash, read_points, run_sweep, sweep_command
+
+
+def _calls(folder: Path) -> list[str]:
+    return sorted(p.name for p in folder.glob("*.call"))
+
+
+def make_func(counter: Path, interrupt_at: int | None = None, fail_x=None, flag: Path | None = None):
+    """A cheap point function that leaves a file per completed call in ``counter``.
+
+    ``interrupt_at``: the n-th call (1-based) raises KeyboardInterrupt, as a Ctrl-C would,
+    if ``flag`` exists (and removes it).  ``fail_x``: points with that x raise ValueError while ``flag``
+    exists.
+    """
+    counter.mkdir(parents=True, exist_ok=True)
+
+    def func(point):
+        n = len(list(counter.glob("*"))) + 1
+        armed = flag is not None and flag.exists()
+        if armed and interrupt_at is not None and n == interrupt_at:
+            flag.unlink()  # only once
+            raise KeyboardInterrupt
+        if armed and fail_x is not None and point["x"] == fail_x:
+            raise ValueError(f"x = {fail_x} is not allowed today")
+        (counter / f"x{point['x']}_y{point['y']}.call").write_text(json.dumps(point))
+        return {"sum": float(point["x"]) + float(str(point["y"]).split()[0]), "flag": True}
+
+    return func
+
+
+SPEC = {"name": "toy", "function": "builtins:dict",
+        "parameters": {"x": [1, 2, 3], "y": [10, 20]}, "outputs": ["sum"]}
+
+
+def _no_tmp(outdir: Path):
+    left = [p for p in outdir.rglob("*") if p.name.endswith(".tmp")]
+    assert not left, f"temporary files left behind: {left}"
+
+
+def test_spec_from_file_with_scenario_and_points(tmp_path):
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "base.toml").write_text('kind = "pulloff"\n[grid]\nn = 32\nsize = "1 um"\n')
+    (tmp_path / "sweep.toml").write_text(
+        'scenario = "sub/base.toml"\noutputs = ["pull_off_force"]\n'
+        '[parameters]\n"adhesion.work_of_adhesion" = ["30 mJ/m^2", "50 mJ/m^2"]\n'
+        'grid.n = [32, 64]\n'                      # unquoted dotted key: nested table, flattened
+        '[[points]]\n"adhesion.z0" = "0.2 nm"\n[[points]]\nadhesion.z0 = "0.3 nm"\n')
+    spec = SweepSpec.from_file(tmp_path / "sweep.toml")
+    assert spec.base["grid"]["n"] == 32 and spec.scenario_path.name == "base.toml"
+    assert list(spec.parameters) == ["adhesion.work_of_adhesion", "grid.n"]
+    assert len(spec) == 8 and not spec.is_grid
+    assert spec.overrides()[0] == {"adhesion.z0": "0.2 nm", "adhesion.work_of_adhesion": "30 mJ/m^2", "grid.n": 32}
+    scen = spec.scenario_for(spec.overrides()[-1])
+    assert scen["grid"] == {"n": 64, "size": "1 um"} and scen["adhesion"]["z0"] == "0.3 nm"
+    assert spec.base["grid"]["n"] == 32  # the base is not modified
+
+
+@pytest.mark.parametrize("data, field", [
+    ({"function": "builtins:dict", "parameters": {"x": [1]}, "bogus": 1}, "sweep.bogus"),
+    ({"parameters": {"x": [1]}}, "sweep.scenario"),
+    ({"function": "builtins:dict", "parameters": {"x": []}}, "parameters.x"),
+    ({"function": "builtins:dict", "parameters": {"x": [1, 1]}}, "parameters.x"),
+    ({"base": {"kind": "normal"}, "parameters": {"nonsense.key": [1, 2]}}, "parameters.nonsense.key"),
+    ({"function": "builtins:dict", "parameters": {"x": [1]}, "points": [{"x": 2}]}, "points[0].x"),
+    ({"function": "nomodule", "parameters": {"x": [1]}}, "sweep.function"),
+])
+def test_spec_errors_name_the_field(data, field):
+    with pytest.raises(InputError) as err:
+        SweepSpec.from_dict(data)
+    assert field in str(err.value)
+
+
+def test_point_hash_is_stable_and_order_free():
+    a = point_hash("scenario", {"grid": {"n": 8, "size": 1.0}}, {"x": 1, "y": "2 nm"})
+    b = point_hash("scenario", {"grid": {"size": 1.0, "n": 8}}, {"y": "2 nm", "x": 1})
+    assert a == b and len(a) == 16
+    assert a != point_hash("scenario", {"grid": {"n": 16, "size": 1.0}}, {"x": 1, "y": "2 nm"})
+
+
+def test_resume_after_interrupt_computes_only_missing_points(tmp_path, capsys):
+    out, counter, flag = tmp_path / "out", tmp_path / "calls", tmp_path / "armed"
+    flag.write_text("1")
+    func = make_func(counter, interrupt_at=3, flag=flag)
+    assert not list(out.glob("points/*")) if out.exists() else True
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(SPEC, out, scheduler="synchronous", func=func, progress=False)
+    assert len(read_points(out)) == 2 and len(_calls(counter)) == 2  # finished points kept
+    _no_tmp(out)
+    first = set(_calls(counter))
+    for f in counter.glob("*.call"):
+        f.unlink()
+    res = run_sweep(SPEC, out, scheduler="synchronous", func=func, progress=True, quiet=False)
+    assert "2 of 6 points done, running 4" in capsys.readouterr().err
+    assert (res.n_done_before, res.n_run, res.n_ok, res.n_failed) == (2, 4, 6, 0)
+    assert not (first & set(_calls(counter))) and len(_calls(counter)) == 4  # each point once
+    res = run_sweep(SPEC, out, scheduler="synchronous", func=func, progress=False)
+    assert res.n_run == 0 and res.complete and res.exit_code == 0
+    _no_tmp(out)
+
+
+def test_results_files_full_grid(tmp_path):
+    import xarray as xr
+
+    spec = SweepSpec.from_dict({"function": "builtins:dict", "outputs": ["E", "n"],
+                                "parameters": {"E": ["80 GPa", "120 GPa"], "n": [8, 16, 32]}})
+    res = run_sweep(spec, tmp_path, scheduler="synchronous", progress=False)
+    assert res.complete and res.n_run == 6
+    with xr.open_dataset(tmp_path / "results.nc") as ds:
+        assert ds["out.E"].dims == ("E", "n") and ds["out.E"].shape == (2, 3)  # echoed inputs renamed
+        assert ds.coords["E"].values.tolist() == [8e10, 1.2e11]  # SI coordinates
+        assert ds.coords["E"].attrs["units"] == "kilogram / meter / second ** 2"
+        assert float(ds["out.E"].sel(E=1.2e11, n=16)) == 1.2e11  # the function got SI floats
+        assert float(ds["out.n"].sel(E=8e10, n=32)) == 32
+        assert (ds["status"].values == "ok").all() and ds.attrs["n_ok"] == 6
+    rows = list(csv.DictReader((tmp_path / "results.csv").open()))
+    assert [r["n"] for r in rows] == ["8", "16", "32"] * 2
+    assert [r["E"] for r in rows] == ["80 GPa"] * 3 + ["120 GPa"] * 3  # as written in the spec
+    assert {r["status"] for r in rows} == {"ok"} and float(rows[4]["n"]) == 16.0
+    assert float(rows[0]["elapsed"]) >= 0
+    manifest = json.loads((tmp_path / "sweep.json").read_text())
+    assert manifest["n_points"] == 6 and manifest["is_grid"]
+    _no_tmp(tmp_path)
+
+
+def test_failed_point_is_recorded_and_retried(tmp_path):
+    import xarray as xr
+
+    out, counter, flag = tmp_path / "out", tmp_path / "calls", tmp_path / "armed"
+    flag.write_text("1")
+    func = make_func(counter, fail_x=2, flag=flag)
+    res = run_sweep(SPEC, out, scheduler="synchronous", func=func, progress=False)
+    assert (res.n_ok, res.n_failed, res.exit_code) == (4, 2, 1)
+    recs = [r for r in read_points(out).values() if r["status"] == "failed"]
+    assert len(recs) == 2 and all("x = 2 is not allowed today" in r["error"] for r in recs)
+    assert all(r["point"]["x"] == 2 and "Traceback" in r["traceback"] for r in recs)
+    rows = list(csv.DictReader((out / "results.csv").open()))
+    failed_rows = [r for r in rows if r["status"] == "failed"]
+    assert len(failed_rows) == 2 and failed_rows[0]["sum"] == "" and "ValueError" in failed_rows[0]["error"]
+    with xr.open_dataset(out / "results.nc") as ds:
+        assert ds["sum"].dims == ("point",) or ds["sum"].dims == ("x", "y")
+        assert math.isnan(float(ds["sum"].sel(x=2, y=10)))
+        assert float(ds["sum"].sel(x=3, y=20)) == 23.0
+    flag.unlink()
+    n_before = len(_calls(counter))
+    res = run_sweep(SPEC, out, scheduler="synchronous", func=func, progress=False)
+    assert (res.n_done_before, res.n_run, res.n_ok, res.n_failed) == (4, 2, 6, 0)
+    assert len(_calls(counter)) == n_before + 2
+    _no_tmp(out)
+
+
+def test_partial_run_then_restart(tmp_path):
+    """A sweep stopped after some points (as by a kill) resumes with the rest."""
+    counter = tmp_path / "calls"
+    func = make_func(counter)
+    res = run_sweep(SPEC, tmp_path / "o", scheduler="synchronous", func=func, progress=False, max_points=4)
+    assert res.n_run == 4 and res.n_ok == 4
+    rows = list(csv.DictReader((tmp_path / "o" / "results.csv").open()))
+    assert sum(r["status"] == "missing" for r in rows) == 2
+    res = run_sweep(SPEC, tmp_path / "o", scheduler="synchronous", func=func, progress=False)
+    assert res.n_run == 2 and res.complete and len(_calls(counter)) == 6
+
+
+def test_explicit_points_give_a_point_dimension(tmp_path):
+    spec = SweepSpec.from_dict({"function": "builtins:dict",
+                                "points": [{"a": 1, "b": "5 nm"}, {"a": 2, "b": "7 nm"}, {"a": 3, "b": "1 um"}]})
+    res = run_sweep(spec, tmp_path, scheduler="synchronous", progress=False)
+    ds = res.dataset
+    assert ds["out.a"].dims == ("point",) and ds.sizes["point"] == 3
+    assert ds.coords["b"].values.tolist() == pytest.approx([5e-9, 7e-9, 1e-6])
+
+
+def test_sweep_command(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    f = tmp_path / "s.toml"
+    f.write_text('function = "builtins:dict"\nscheduler = "synchronous"\n[base]\nc = 1\n[parameters]\nx = [1, 2]\n')
+    assert sweep_command(str(f), quiet=True) == 0
+    assert (tmp_path / "results" / "s" / "results.nc").is_file()
+    assert sweep_command(str(f), out=str(tmp_path / "o2"), json_output=True) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["n_ok"] == 2 and report["n_run"] == 2
+
+
+def test_local_cluster_one_worker(tmp_path):
+    pytest.importorskip("distributed")
+    counter = tmp_path / "calls"
+    func = make_func(counter)
+    t0 = time.perf_counter()
+    res = run_sweep(SPEC, tmp_path / "o", n_workers=1, func=func, progress=False)
+    assert res.complete and res.n_run == 6 and len(_calls(counter)) == 6
+    recs = read_points(tmp_path / "o")
+    assert {r["outputs"]["sum"] for r in recs.values()} == {11.0, 21.0, 12.0, 22.0, 13.0, 23.0}
+    assert time.perf_counter() - t0 < 60
+    _no_tmp(tmp_path / "o")
+
+
+def test_scenario_sweep_through_run_scenario(tmp_path):
+    """The default runner: each point is the base scenario with its dotted keys set."""
+    try:
+        from tribobem.scenario import run_scenario  # noqa: F401
+    except ImportError:
+        pytest.skip("tribobem.scenario.run_scenario not available")
+    (tmp_path / "base.toml").write_text(
+        'kind = "normal"\n[grid]\nn = 32\nsize = "0.25 um"\nperiodic = false\n'
+        '[body1]\nE = "130 GPa"\nnu = 0.28\n[body2]\nrigid = true\n'
+        'shape = { kind = "sphere", radius = "10 um" }\n[load]\nforce = "1 uN"\n[solver]\ntolerance = 1e-8\n')
+    (tmp_path / "sweep.toml").write_text(
+        'scenario = "base.toml"\noutputs = ["contact_area", "normal_force", "converged", "nonexistent"]\n'
+        '[parameters]\n"load.force" = ["1 uN", "2 uN"]\n"body1.E" = ["100 GPa", "200 GPa"]\n')
+    res = run_sweep(tmp_path / "sweep.toml", tmp_path / "out", scheduler="synchronous", progress=False)
+    assert res.complete, res.failed
+    ds = res.dataset
+    assert ds["contact_area"].dims == ("load.force", "body1.E")
+    area = ds["contact_area"].values
+    assert (area > 0).all() and area[1, 0] > area[0, 0] and area[0, 0] > area[0, 1]  # Hertz trends
+    assert float(ds["normal_force"].sel({"load.force": 2e-6, "body1.E": 1e11})) == pytest.approx(2e-6, rel=1e-6)
+    assert (ds["converged"].values == 1).all() and np.isnan(ds["nonexistent"].values).all()
+
+
+def test_stale_temporary_files_of_a_killed_sweep_are_removed(tmp_path):
+    import os
+
+    out = tmp_path / "o"
+    (out / "points").mkdir(parents=True)
+    stale = out / "points" / ".abc.json.x1.tmp"
+    stale.write_text("{half a reco")
+    os.utime(stale, (time.time() - 3600, time.time() - 3600))
+    fresh = out / ".results.nc.x2.tmp"  # a write in progress (young): left alone
+    fresh.write_text("")
+    res = run_sweep(SPEC, out, scheduler="synchronous", func=make_func(tmp_path / "c"), progress=False)
+    assert res.complete and not stale.exists() and fresh.exists()

@@ -1,0 +1,48 @@
+"""tribobem.validation: the cases behind ``tribobem validate``."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from tribobem import InputError
+from tribobem.validation import CASES, ValidationRow, run_validation
+
+
+def test_cases_listed():
+    for name in ("hertz", "westergaard", "bisinusoidal_small_load", "bisinusoidal_near_full", "force_balance",
+                 "periodic_vs_free", "maugis_dugdale", "md_pull_off", "guduru"):
+        assert name in CASES
+
+
+def test_cheap_cases_pass():
+    calls = []
+    rows = run_validation(quick=True, cases=["hertz", "westergaard"],
+                          progress=lambda done, total, name: calls.append((done, total, name)))
+    assert calls == [(1, 2, "hertz"), (2, 2, "westergaard")]
+    assert {r.case.split()[0] for r in rows} == {"hertz", "westergaard"}
+    assert len(rows) == 5
+    for r in rows:
+        assert isinstance(r, ValidationRow)
+        assert [f.name for f in dataclasses.fields(r)] == ["case", "quantity", "reference", "computed",
+                                                           "rel_error", "tolerance", "passed"]
+        assert r.passed, r
+        assert r.rel_error == pytest.approx(abs(r.computed - r.reference) / abs(r.reference))
+        assert 0 <= r.rel_error <= r.tolerance
+    hertz = [r for r in rows if r.case.startswith("hertz")]
+    assert {r.quantity for r in hertz} == {"contact radius", "max pressure p0", "approach"}
+    assert all(r.tolerance == 0.03 for r in hertz)       # quick: 128^2, 3%
+
+
+def test_force_balance_case():
+    rows = run_validation(quick=True, cases=["force_balance"])
+    assert rows and all(r.passed for r in rows)
+    assert max(r.rel_error for r in rows) < 1e-8
+
+
+def test_unknown_case():
+    with pytest.raises(InputError) as err:
+        run_validation(cases=["hertz", "no_such_case"])
+    assert err.value.field == "validate.cases"
+    assert "no_such_case" in str(err.value) and "hertz" in str(err.value)
