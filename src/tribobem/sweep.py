@@ -40,11 +40,9 @@ import math
 import os
 import socket
 import sys
-import tempfile
 import time
 import tomllib
 import traceback
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping
@@ -52,6 +50,7 @@ from typing import Any, Callable, Iterable, Mapping
 import numpy as np
 
 from .errors import InputError
+from .output.summary import atomic_path
 
 __all__ = [
     "SweepSpec",
@@ -78,28 +77,6 @@ RECORD_VERSION = 1
 # --------------------------------------------------------------------------------------
 # Atomic writes
 # --------------------------------------------------------------------------------------
-
-@contextmanager
-def atomic_path(path: str | os.PathLike):
-    """Yield a temporary path next to ``path``; on success it replaces ``path`` atomically.
-
-    The temporary file lives in the same folder (so ``os.replace`` is a rename on one file
-    system) and is removed if the block raises.
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        yield Path(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> None:
     """Write ``text`` to ``path`` atomically (temporary file, fsync, rename)."""

@@ -20,13 +20,12 @@ variable                      dims            meaning
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 from typing import Sequence
 
 import numpy as np
 
-from .summary import temp_path
+from .summary import atomic_path
 
 __all__ = ["build_fields", "write_fields", "read_fields", "representative_step"]
 
@@ -134,18 +133,10 @@ def write_fields(ds, path) -> Path:
     path = Path(path)
     if path.is_dir():
         path = path / "fields.nc"
-    tmp = temp_path(path)
     encoding = {name: dict(_ENCODE) for name, var in ds.data_vars.items() if var.ndim >= 2}
     encoding["label"] = {"dtype": str}
-    try:
+    with atomic_path(path) as tmp:
         ds.to_netcdf(tmp, mode="w", format="NETCDF4", engine=_engine(), encoding=encoding)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
     return path
 
 
