@@ -211,7 +211,7 @@ def run(
 @app.command()
 def sweep(
     sweep_file: Path = typer.Argument(..., help="Sweep file (TOML): a base scenario and a grid of parameters."),
-    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Results folder (default: <stem>_results beside the file)."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Results folder (default: results/<stem>)."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler ADDRESS, 'local' or 'synchronous'."),
     workers: Optional[int] = typer.Option(None, "--workers", help="Workers of the local cluster."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or messages."),
