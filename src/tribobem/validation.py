@@ -40,7 +40,9 @@ Cases (:data:`CASES`)
     max(|reference|, scale), the scales being the Johnson-Greenwood units
     d = (9 pi^2 dgamma^2 R/(16 E*^2))^(1/3) and pi R dgamma, because both quantities cross zero
     along the curve.  Quick: lambda = 0.1 and 1 (force control at F = 0, displacement control at
-    0.75 x pull-off); full: the six lambdas of SPEC 5 (lambda = 5 needs a 1248^2 grid).
+    0.75 x pull-off); full: the six lambdas of SPEC 5 (lambda = 5 needs a 1248^2 grid, on
+    which the cold force-controlled solve at F = pi R dgamma currently stalls: its approach row
+    fails, see tests/solvers/test_adhesion.py::LAMBDA5_STALL).
 ``md_pull_off``
     Pull-off force of the same sphere by displacement-controlled unloading
     (:func:`tribobem.solvers.paths.pull_off`) vs the Maugis-Dugdale pull-off, 3%.  Quick:
@@ -435,18 +437,19 @@ def md_pull_off(prob: MaugisDugdaleProblem, *, n_steps: int = 24, refine: int = 
                         n_steps=n_steps, refine=refine, tol=solver_tol)
 
 
-def md_pull_off_scan(prob: MaugisDugdaleProblem, *, half_width: float = 0.3, step: float = 0.15,
-                     solver_tol: float = 1e-9) -> tuple[float, float]:
+def md_pull_off_scan(prob: MaugisDugdaleProblem, *, D_start: float = 0.3, half_width: float = 0.3,
+                     step: float = 0.15, solver_tol: float = 1e-9) -> tuple[float, float]:
     """Pull-off force from a short displacement-controlled scan around the analytic pull-off.
 
     For large lambda the continuation of :func:`tribobem.solvers.paths.pull_off` (steps of
     h0/4 once the force is tensile) needs ~60 solves, which on the 1248^2 grid of lambda = 5
-    takes hours on two cores.  Here the state is first solved under force control at the
-    analytic force of the approach D_po + ``half_width`` (D_po: analytic pull-off approach,
-    Johnson-Greenwood units), which puts it on the stable large-contact branch, then the
-    approach is stepped down by ``step`` to D_po - ``half_width`` under displacement control,
-    each solve warm-started from the previous one, and a parabola through the three lowest
-    forces gives the minimum.
+    takes hours on two cores.  Here the approach runs under displacement control from
+    ``D_start`` > 0 (a cold start at a positive approach lands on the stable large-contact
+    branch; at a negative one it finds the separated state) down to D_po - ``half_width``
+    (D_po: analytic pull-off approach, Johnson-Greenwood units) in steps of ``step``, each
+    solve warm-started from the previous one, and a parabola through the three lowest forces
+    gives the minimum.  (Starting from the force-controlled state instead carries its approach
+    error into every force: -3.3% at lambda = 5 on 1248^2.)
 
     Returns
     -------
@@ -454,10 +457,8 @@ def md_pull_off_scan(prob: MaugisDugdaleProblem, *, half_width: float = 0.3, ste
         Pull-off force (N) and its approach (m).
     """
     D_po = maugis_dugdale_pull_off_point(prob.lam, "force").approach
-    Ds = D_po + np.arange(half_width, -half_width - 1e-12, -step)
-    start = _solve(prob.operator, prob.gap, force=float(prob.reference(approach=Ds[0] * prob.d_scale).force),
-                   interaction=prob.adhesion, tol=solver_tol)
-    F, d, prev = [], [], start
+    Ds = np.arange(max(D_start, D_po + half_width), D_po - half_width - 1e-12, -step)
+    F, d, prev = [], [], None
     for D in Ds:
         res = _solve(prob.operator, prob.gap, approach=float(D * prob.d_scale), interaction=prob.adhesion,
                      tol=solver_tol, initial_pressure=prev)
