@@ -131,3 +131,149 @@ class NormalResult:
             "converged": self.converged,
             "time": self.time,
         }
+
+
+@dataclass
+class TangentialResult:
+    """Solution of one tangential (partial-slip) problem at a given pressure.
+
+    Conventions (SPEC 1 and 9.1): ``shear`` is the traction q = (q_x, q_y) acting on body 1
+    (body 2 receives -q); ``force_x, force_y`` is the tangential force applied to body 2, equal
+    to the sum of q times the cell area; ``displacement_x, displacement_y`` (delta) is the rigid
+    displacement of body 2 relative to body 1; ``slip`` is s = u1 - u2 - delta (m), the relative
+    tangential displacement (total mode) or its increment since the previous step (incremental
+    mode).  On slip nodes |q| = mu p and q opposes the slip; on stick nodes |q| < mu p and the
+    slip (increment) vanishes.  Shear acts only where p > 0 (compressive contact, Paper D).
+
+    Attributes
+    ----------
+    grid : Grid
+    shear : ndarray, shape (2, nx, ny)
+        q_x, q_y on body 1 (Pa).
+    slip : ndarray, shape (2, nx, ny)
+        Slip s_x, s_y (m) on every node (meaningful on the compressive contact).
+    relative_displacement : ndarray, shape (2, nx, ny)
+        Total relative tangential displacement u1 - u2 - delta (m) of every node: the
+        reference of the next step in incremental mode.
+    contact : ndarray of bool
+        Compressive contact (p > 0): where shear may act.
+    stick : ndarray of bool
+        Stick nodes (|q| < mu p, zero slip).
+    force_x, force_y : float
+        Tangential force on body 2 (N).
+    displacement_x, displacement_y : float
+        Rigid tangential displacement of body 2 relative to body 1 (m).
+    friction_coefficient : float
+    mode : {"total", "incremental"}
+    control : {"force", "displacement"}
+    iterations : int
+    residual_history : ndarray
+        max(relative traction change, complementarity residual) per iteration.
+    converged : bool
+    gross_slip : bool
+        True when no node sticks (gross sliding).
+    time : float
+    message : str
+    info : dict
+    """
+
+    grid: Grid
+    shear: np.ndarray
+    slip: np.ndarray
+    relative_displacement: np.ndarray
+    contact: np.ndarray
+    stick: np.ndarray
+    force_x: float
+    force_y: float
+    displacement_x: float
+    displacement_y: float
+    friction_coefficient: float
+    mode: str
+    control: str
+    iterations: int
+    residual_history: np.ndarray
+    converged: bool
+    gross_slip: bool
+    time: float
+    message: str = ""
+    info: dict = field(default_factory=dict)
+
+    @property
+    def residual(self) -> float:
+        return float(self.residual_history[-1]) if len(self.residual_history) else float("nan")
+
+    @property
+    def slip_mask(self) -> np.ndarray:
+        """Slip nodes: compressive contact that does not stick."""
+        return self.contact & ~self.stick
+
+    @property
+    def stick_area(self) -> float:
+        """Area of the stick nodes (m^2)."""
+        return float(np.count_nonzero(self.stick)) * self.grid.cell_area
+
+    @property
+    def slip_area(self) -> float:
+        """Area of the slip nodes (m^2)."""
+        return float(np.count_nonzero(self.slip_mask)) * self.grid.cell_area
+
+    @property
+    def contact_area(self) -> float:
+        """Area of the compressive contact (p > 0), m^2."""
+        return float(np.count_nonzero(self.contact)) * self.grid.cell_area
+
+    @property
+    def stick_ratio(self) -> float:
+        """A_stick / A_contact (compressive contact, SPEC 9.1); 0 without contact."""
+        n = np.count_nonzero(self.contact)
+        return float(np.count_nonzero(self.stick)) / n if n else 0.0
+
+    def scalars(self) -> dict:
+        """The per-step tangential scalars of the summary.json file contract (SPEC 9.1)."""
+        return {
+            "tangential_force_x": self.force_x,
+            "tangential_force_y": self.force_y,
+            "displacement_x": self.displacement_x,
+            "displacement_y": self.displacement_y,
+            "stick_area": self.stick_area,
+            "slip_area": self.slip_area,
+            "stick_ratio": self.stick_ratio,
+            "tangential_iterations": self.iterations,
+            "tangential_residual": self.residual,
+            "tangential_converged": self.converged,
+            "gross_slip": self.gross_slip,
+        }
+
+
+@dataclass
+class CoupledResult:
+    """One step of the normal-tangential coupling loop (Paper D Fig. 2).
+
+    Attributes
+    ----------
+    normal : NormalResult
+        The (adhesive) normal solution, with the shear-induced normal displacement in its gap.
+    tangential : TangentialResult
+    coupling_iterations : int
+        Outer (Panagiotopoulos) iterations.
+    coupling_history : ndarray
+        Relative pressure change per outer iteration.
+    converged : bool
+        Both levels and the outer loop converged.
+    message : str
+    """
+
+    normal: NormalResult
+    tangential: TangentialResult
+    coupling_iterations: int
+    coupling_history: np.ndarray
+    converged: bool
+    message: str = ""
+
+    def scalars(self) -> dict:
+        row = self.normal.scalars()
+        row["normal_converged"] = row.pop("converged")
+        row.update(self.tangential.scalars())
+        row["coupling_iterations"] = self.coupling_iterations
+        row["converged"] = self.converged
+        return row
