@@ -1,21 +1,15 @@
 """Run a scenario: parse -> build -> solve -> outputs.
 
-Kinds implemented in this version:
-
-* ``normal``: one load (``force`` or ``approach``) or a list (``forces`` / ``approaches``),
-  warm-started step to step; with ``load.unload = true`` a list is traced back down (the
-  unloading branch).  With ``[adhesion]`` the Dugdale interaction acts outside contact.
-* ``pulloff``: optional loading branch (displacement control, from separation to the
-  preload), then :func:`~tribobem.solvers.paths.pull_off` (unloading from the preload,
-  golden-section refinement of the most negative force); run-level ``pull_off_force``.
-
-``partial_slip``, ``hysteresis`` and ``capillary`` scenarios validate but do not run yet.
+The solving step belongs to the run kind: :func:`run_scenario` looks the kind's runner up in
+the registry :data:`tribobem.runs.RUNNERS` (one module per kind in :mod:`tribobem.runs`:
+``normal``, ``pulloff``, ...) and turns what the runner returns into summary.json, fields.nc,
+figures and the report.  A kind the schema accepts but that has no runner raises
+:class:`NotImplementedKindError` (the scenario itself is valid).
 """
 
 from __future__ import annotations
 
 import datetime as _dt
-import math
 import time
 import tomllib
 import warnings
@@ -26,14 +20,11 @@ from typing import Callable
 import numpy as np
 
 from ..errors import ConvergenceWarning, InputError
+from ..runs import NotImplementedKindError, get_runner
 from .build import Problem, build_problem
-from .schema import IMPLEMENTED_KINDS, Scenario, parse_scenario
+from .schema import Scenario, parse_scenario
 
 __all__ = ["RunResult", "NotImplementedKindError", "load_scenario", "read_scenario_file", "run_scenario"]
-
-
-class NotImplementedKindError(InputError):
-    """A scenario kind the schema accepts but this version cannot run."""
 
 
 @dataclass
@@ -55,6 +46,9 @@ class RunResult:
         The solutions stored in ``fields`` (one per step there).
     curve : LoadCurve or None
         The force-approach curve of list / pull-off runs.
+    tangential : list of TangentialResult
+        Tangential kinds: the tangential solutions aligned one-to-one with ``results``
+        (empty for the normal kinds).
     """
 
     summary: dict
@@ -64,6 +58,7 @@ class RunResult:
     problem: Problem | None = None
     results: list = field(default_factory=list)
     curve: object = None
+    tangential: list = field(default_factory=list)
 
     @property
     def converged(self) -> bool:
@@ -190,127 +185,6 @@ class _Callback:
         pass
 
 
-def _offset(cb, offset: int, total: int):
-    return lambda done, _t: cb(offset + done, total)
-
-
-# ----------------------------------------------------------------------------- solving
-def _solve_kw(sc: Scenario) -> dict:
-    return {"tol": sc.solver.tolerance, "max_iterations": sc.solver.max_iterations}
-
-
-def _row(res, branch: str) -> dict:
-    row = res.scalars()
-    row["branch"] = branch
-    return row
-
-
-def _curve_from_rows(rows: list, control: str):
-    """A LoadCurve (with jumps) from step rows."""
-    from ..solvers.paths import LoadCurve, find_jumps
-
-    def col(k, dtype=float):
-        return np.array([r[k] for r in rows], dtype=dtype)
-
-    curve = LoadCurve(control=control, branch=np.array([r["branch"] for r in rows], dtype=object),
-                      approach=col("approach"), force=col("normal_force"), contact_area=col("contact_area"),
-                      adhesive_area=col("adhesive_area"), repulsive_force=col("repulsive_force"),
-                      adhesive_force=col("adhesive_force"), iterations=col("iterations", int),
-                      converged=col("converged", bool), steps=rows)
-    curve.jumps = find_jumps(curve)
-    return curve
-
-
-def _run_normal(pb: Problem, bar) -> dict:
-    from ..solvers.normal import solve_normal
-    from ..solvers.paths import approach_curve, force_curve
-
-    sc, load = pb.scenario, pb.scenario.load
-    kw = _solve_kw(sc)
-    inter = pb.interaction
-    out: dict = {"run": {}}
-    if load.force is not None or load.approach is not None:
-        bar.phase("solving", 1)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ConvergenceWarning)
-            if load.force is not None:
-                res = solve_normal(pb.operator, pb.gap, force=load.force, interaction=inter, **kw)
-            else:
-                res = solve_normal(pb.operator, pb.gap, approach=load.approach, interaction=inter, **kw)
-        bar(1, 1)
-        out.update(rows=[_row(res, "loading")], results=[res], labels=["loading 0"], indices=[0], curve=None)
-        return out
-    unload = bool(load.unload)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        if load.forces is not None:
-            bar.phase("force steps", len(load.forces) * (2 if unload else 1))
-            curve = force_curve(pb.operator, pb.gap, load.forces, interaction=inter, unload=unload,
-                                keep_fields=True, progress=bar, **kw)
-        else:
-            bar.phase("approach steps", len(load.approaches) * (2 if unload else 1))
-            curve = approach_curve(pb.operator, pb.gap, load.approaches, interaction=inter, unload=unload,
-                                   keep_fields=True, progress=bar, **kw)
-    rows = [dict(r) for r in curve.steps]
-    counters: dict = {}
-    labels = []
-    for r in rows:
-        k = counters.get(r["branch"], 0)
-        counters[r["branch"]] = k + 1
-        labels.append(f"{r['branch']} {k}")
-    if inter is not None and np.any(curve.converged) and np.nanmin(curve.force) < 0:
-        out["run"]["pull_off_force"] = curve.pull_off_force
-        out["run"]["pull_off_approach"] = curve.pull_off_approach
-    if unload:
-        out["run"]["hysteresis_energy"] = curve.hysteresis_energy
-    out.update(rows=rows, results=list(curve.results), labels=labels, indices=list(range(len(rows))), curve=curve)
-    return out
-
-
-def _run_pulloff(pb: Problem, bar) -> dict:
-    from ..solvers.normal import solve_normal
-    from ..solvers.paths import approach_curve, pull_off
-
-    sc, load = pb.scenario, pb.scenario.load
-    kw = _solve_kw(sc)
-    inter = pb.interaction
-    n_load = max(load.steps // 2, 4) if load.loading else 0
-    total = 1 + n_load + load.steps + load.refine + 1
-    bar.phase("pull-off", total)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        start = solve_normal(pb.operator, pb.gap, force=load.preload, interaction=inter, **kw)
-        bar(1, total)
-        rows: list = []
-        if load.loading and math.isfinite(start.approach):
-            d0 = -2.0 * inter.h0
-            approaches = np.linspace(d0, start.approach, n_load)
-            loading = approach_curve(pb.operator, pb.gap, approaches, interaction=inter, unload=False,
-                                     progress=_offset(bar, 1, total), **kw)
-            rows += [dict(r) for r in loading.steps]
-        po = pull_off(pb.operator, pb.gap, inter, preload=load.preload, control=load.control, n_steps=load.steps,
-                      refine=load.refine, progress=_offset(bar, 1 + n_load, total), **kw)
-        n_loading = len(rows)
-        rows += [dict(r, branch="unloading") for r in po.curve.steps]  # force control labels them "loading"
-        at = po.state  # the state at pull-off, on the branch the unloading followed
-        bar(total, total)
-    curve = _curve_from_rows(rows, "displacement" if load.control == "displacement" else "force")
-    if load.control == "force":  # the force-controlled jump-off (no equilibrium beyond it)
-        seen = {(j["index"], j["kind"]) for j in curve.jumps}
-        for j in po.curve.jumps:
-            jj = dict(j, index=int(j["index"]) + n_loading, branch="unloading")
-            if jj["kind"] == "jump-off" and (jj["index"], "jump-off") not in seen:
-                curve.jumps.append(jj)
-        curve.jumps.sort(key=lambda j: j["index"])
-    run = {"pull_off_force": po.force, "pull_off_approach": po.approach, "pull_off_control": load.control}
-    if load.loading:
-        run["hysteresis_energy"] = curve.hysteresis_energy
-    # index of the preload state in the steps: the first unloading row is the preload
-    idx_pre = n_loading if len(rows) > n_loading else -1
-    return {"rows": rows, "results": [start, at], "labels": ["preload", "pull-off"], "indices": [idx_pre, -1],
-            "curve": curve, "run": run}
-
-
 def _progress_handler(progress, quiet: bool):
     if callable(progress):
         return _Callback(progress)
@@ -349,15 +223,15 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     """
     t0 = time.perf_counter()
     sc, base = load_scenario(scenario, base_dir)
-    if sc.kind not in IMPLEMENTED_KINDS:
-        raise NotImplementedKindError(
-            "kind", f"{sc.kind!r} runs are not implemented yet in this version "
-                    f"(available: {', '.join(IMPLEMENTED_KINDS)}); the scenario itself is valid")
+    try:
+        runner = get_runner(sc.kind)
+    except NotImplementedKindError as exc:
+        raise NotImplementedKindError(exc.field, f"{exc.reason}; the scenario itself is valid") from None
     pb = build_problem(sc, base)
     t_build = time.perf_counter()
 
     with _progress_handler(progress, quiet) as bar:
-        out = _run_normal(pb, bar) if sc.kind == "normal" else _run_pulloff(pb, bar)
+        out = runner(pb, bar)
         bar.finish()
     t_solve = time.perf_counter()
 
@@ -393,14 +267,19 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     # fields
     keep = sc.output.fields
     results, labels, indices = out["results"], out["labels"], out["indices"]
+    tangential = list(out.get("tangential") or [])
+    if tangential and len(tangential) != len(results):
+        raise RuntimeError(f"the {sc.kind!r} runner returned {len(tangential)} tangential results for "
+                           f"{len(results)} results (they must be aligned one-to-one)")
     if keep == "last" and len(results) > 1:
         if "pull-off" in labels:
             sel = [labels.index("pull-off")]
         else:
             sel = [int(np.nanargmax([r.force for r in results]))]
         results, labels, indices = [results[i] for i in sel], [labels[i] for i in sel], [indices[i] for i in sel]
+        tangential = [tangential[i] for i in sel] if tangential else []
     elif keep == "none":
-        results, labels, indices = [], [], []
+        results, labels, indices, tangential = [], [], [], []
     from ..output.fields import build_fields
 
     attrs = {"title": sc.name or f"tribobem {sc.kind} run", "kind": sc.kind,
@@ -409,7 +288,8 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     ds = build_fields(pb.grid, results, labels, initial_gap=pb.gap,
                       roughness1=pb.roughness1 if sc.body1.roughness.kind != "none" else None,
                       roughness2=pb.roughness2 if sc.body2.roughness.kind != "none" else None,
-                      summary_steps=indices, attrs=attrs)
+                      summary_steps=indices, attrs=attrs,
+                      **({"tangential": tangential} if tangential else {}))
 
     files = {}
     out_path = None
@@ -430,4 +310,4 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     else:
         summary["timings"]["total"] = time.perf_counter() - t0
     return RunResult(summary=summary, fields=ds, outdir=out_path, files=files, problem=pb,
-                     results=results, curve=curve)
+                     results=results, curve=curve, tangential=tangential)

@@ -23,6 +23,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, StrictBool, 
 from pydantic_core import PydanticCustomError
 
 from ..errors import InputError
+from ..runs import RUNNERS
 from ..units import DIMENSIONS, UnitMismatch, convert
 
 __all__ = [
@@ -43,8 +44,8 @@ __all__ = [
 
 #: Run kinds the schema accepts (SPEC 9.1).
 KINDS = ("normal", "pulloff", "partial_slip", "hysteresis", "capillary")
-#: Run kinds this version can run.
-IMPLEMENTED_KINDS = ("normal", "pulloff")
+#: Run kinds this version can run: exactly those with a runner in :data:`tribobem.runs.RUNNERS`.
+IMPLEMENTED_KINDS = tuple(k for k in KINDS if k in RUNNERS)
 
 
 # ----------------------------------------------------------------------------- errors
@@ -564,7 +565,8 @@ class Scenario(Section):
 
     @property
     def implemented(self) -> bool:
-        return self.kind in IMPLEMENTED_KINDS
+        """Whether this version can run the scenario's kind (it has a runner)."""
+        return self.kind in RUNNERS
 
 
 # ----------------------------------------------------------------------------- parsing

@@ -1,0 +1,67 @@
+"""Run kind ``normal``: one load or a list of loads, warm-started step to step.
+
+One load (``force`` or ``approach``) or a list (``forces`` / ``approaches``); with
+``load.unload = true`` a list is traced back down (the unloading branch).  With
+``[adhesion]`` the Dugdale interaction acts outside contact.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..errors import ConvergenceWarning
+from .common import solve_kw, step_row
+
+__all__ = ["run"]
+
+
+def run(pb, bar) -> dict:
+    """Run a ``normal`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
+
+    Returns the runner dict (rows, results, labels, indices, curve, run).
+    """
+    from ..solvers.normal import solve_normal
+    from ..solvers.paths import approach_curve, force_curve
+
+    sc, load = pb.scenario, pb.scenario.load
+    kw = solve_kw(sc)
+    inter = pb.interaction
+    out: dict = {"run": {}}
+    if load.force is not None or load.approach is not None:
+        bar.phase("solving", 1)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            if load.force is not None:
+                res = solve_normal(pb.operator, pb.gap, force=load.force, interaction=inter, **kw)
+            else:
+                res = solve_normal(pb.operator, pb.gap, approach=load.approach, interaction=inter, **kw)
+        bar(1, 1)
+        out.update(rows=[step_row(res, "loading")], results=[res], labels=["loading 0"], indices=[0], curve=None)
+        return out
+    unload = bool(load.unload)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        if load.forces is not None:
+            bar.phase("force steps", len(load.forces) * (2 if unload else 1))
+            curve = force_curve(pb.operator, pb.gap, load.forces, interaction=inter, unload=unload,
+                                keep_fields=True, progress=bar, **kw)
+        else:
+            bar.phase("approach steps", len(load.approaches) * (2 if unload else 1))
+            curve = approach_curve(pb.operator, pb.gap, load.approaches, interaction=inter, unload=unload,
+                                   keep_fields=True, progress=bar, **kw)
+    rows = [dict(r) for r in curve.steps]
+    counters: dict = {}
+    labels = []
+    for r in rows:
+        k = counters.get(r["branch"], 0)
+        counters[r["branch"]] = k + 1
+        labels.append(f"{r['branch']} {k}")
+    if inter is not None and np.any(curve.converged) and np.nanmin(curve.force) < 0:
+        out["run"]["pull_off_force"] = curve.pull_off_force
+        out["run"]["pull_off_approach"] = curve.pull_off_approach
+    if unload:
+        out["run"]["hysteresis_energy"] = curve.hysteresis_energy
+    out.update(rows=rows, results=list(curve.results), labels=labels, indices=list(range(len(rows))), curve=curve)
+    return out
