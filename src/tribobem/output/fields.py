@@ -16,6 +16,25 @@ variable                      dims            meaning
 ``normal_force``, ``approach``  step          force (N) and approach (m) of the step
 ``summary_step``              step            index of the step in summary.json (-1: none)
 ============================  ==============  ==========================================
+
+Tangential kinds (``partial_slip``, ``hysteresis``; only when tangential results are given;
+steps without one hold NaN, and 0 in ``stick``):
+
+============================  ==============  ==========================================
+variable                      dims            meaning
+============================  ==============  ==========================================
+``shear_x``, ``shear_y``      step, x, y      tangential traction q on body 1 (Pa)
+``slip_x``, ``slip_y``        step, x, y      slip s = u1 - u2 - delta (m): total, or the
+                                              increment of the step (``slip_mode`` attr)
+``stick``                     step, x, y      1 on stick nodes (|q| < mu p, no slip)
+``tangential_force_x/_y``     step            tangential force on body 2 (N)
+``displacement_x/_y``         step            rigid displacement of body 2 rel. body 1 (m)
+``stick_ratio``               step            A_stick / A_contact (p > 0)
+============================  ==============  ==========================================
+
+Slip nodes are the compressive contact (``pressure > 0``) that does not stick.  The global
+attribute ``friction_coefficient`` (mu) is set from the tangential results when the caller
+does not give it.
 """
 
 from __future__ import annotations
@@ -33,7 +52,8 @@ _ENCODE = {"zlib": True, "complevel": 4}
 
 
 def build_fields(grid, results: Sequence, labels: Sequence[str], *, initial_gap, roughness1=None,
-                 roughness2=None, summary_steps: Sequence[int] | None = None, attrs: dict | None = None):
+                 roughness2=None, summary_steps: Sequence[int] | None = None, attrs: dict | None = None,
+                 tangential: Sequence | None = None):
     """An :class:`xarray.Dataset` of the fields of a run.
 
     Parameters
@@ -51,6 +71,9 @@ def build_fields(grid, results: Sequence, labels: Sequence[str], *, initial_gap,
         Index of each saved result in summary.json ``steps`` (-1 when not there).
     attrs : dict, optional
         Global attributes (bools become 0/1, None is dropped).
+    tangential : sequence of TangentialResult or None, optional
+        One entry per result (None where the step has no tangential solution): adds
+        ``shear_x/_y``, ``slip_x/_y``, ``stick`` and the per-step tangential coordinates.
 
     Returns
     -------
@@ -99,9 +122,14 @@ def build_fields(grid, results: Sequence, labels: Sequence[str], *, initial_gap,
         if h is not None:
             data[name] = (("x", "y"), np.asarray(h, dtype=float),
                           {"units": "m", "long_name": f"roughness of {name[-5:]} (positive toward the counter-surface)"})
+    attrs = dict(attrs or {})
+    if tangential is not None:
+        if len(tangential) != n:
+            raise ValueError("tangential: one entry (a TangentialResult or None) per result")
+        _add_tangential(data, coords, tangential, shape, attrs)
     ds = xr.Dataset(data, coords=coords)
     clean = {}
-    for k, v in (attrs or {}).items():
+    for k, v in attrs.items():
         if v is None:
             continue
         if isinstance(v, (bool, np.bool_)):
@@ -115,6 +143,54 @@ def build_fields(grid, results: Sequence, labels: Sequence[str], *, initial_gap,
     clean.setdefault("periodic", int(grid.periodic))
     ds.attrs.update(clean)
     return ds
+
+
+def _add_tangential(data: dict, coords: dict, tangential: Sequence, shape: tuple, attrs: dict) -> None:
+    """The tangential variables and per-step coordinates (in place)."""
+    n = shape[0]
+    shear = np.full((2,) + shape, np.nan)
+    slip = np.full((2,) + shape, np.nan)
+    stick = np.zeros(shape, dtype=np.int8)
+    scal = {k: np.full(n, np.nan) for k in ("tangential_force_x", "tangential_force_y", "displacement_x",
+                                              "displacement_y", "stick_ratio")}
+    modes, mus = [], []
+    for i, t in enumerate(tangential):
+        if t is None:
+            continue
+        q = np.asarray(t.shear, dtype=float)
+        s = np.asarray(t.slip, dtype=float)
+        if q.shape != (2,) + shape[1:] or s.shape != q.shape:
+            raise ValueError(f"tangential[{i}]: shear and slip must have shape {(2,) + shape[1:]}, got "
+                             f"{q.shape} and {s.shape}")
+        shear[:, i], slip[:, i] = q, s
+        stick[i] = np.asarray(t.stick).astype(np.int8)
+        scal["tangential_force_x"][i] = t.force_x
+        scal["tangential_force_y"][i] = t.force_y
+        scal["displacement_x"][i] = t.displacement_x
+        scal["displacement_y"][i] = t.displacement_y
+        scal["stick_ratio"][i] = t.stick_ratio
+        modes.append(str(t.mode))
+        mus.append(float(t.friction_coefficient))
+    mode = modes[0] if modes and all(m == modes[0] for m in modes) else ("mixed" if modes else "none")
+    slip_name = {"total": "total slip", "incremental": "slip increment of the step"}.get(mode, "slip")
+    dims = ("step", "x", "y")
+    for c, comp in enumerate("xy"):
+        data[f"shear_{comp}"] = (dims, shear[c], {"units": "Pa", "long_name": f"tangential traction q_{comp} on body 1"})
+    for c, comp in enumerate("xy"):
+        data[f"slip_{comp}"] = (dims, slip[c], {"units": "m", "slip_mode": mode,
+                                                "long_name": f"{slip_name} s_{comp} = u1 - u2 - delta"})
+    data["stick"] = (dims, stick, {"units": "1", "long_name": "stick mask (|q| < mu p, no slip)",
+                                   "flag_values": "0 1"})
+    for comp in "xy":
+        coords[f"tangential_force_{comp}"] = ("step", scal[f"tangential_force_{comp}"],
+                                              {"units": "N", "long_name": f"tangential force on body 2 along {comp}"})
+        coords[f"displacement_{comp}"] = ("step", scal[f"displacement_{comp}"],
+                                          {"units": "m", "long_name": f"rigid displacement of body 2 along {comp}"})
+    coords["stick_ratio"] = ("step", scal["stick_ratio"],
+                             {"units": "1", "long_name": "stick area / compressive contact area"})
+    if mus and attrs.get("friction_coefficient") is None and all(m == mus[0] for m in mus):
+        attrs["friction_coefficient"] = mus[0]
+    attrs.setdefault("slip_mode", mode)
 
 
 def write_fields(ds, path) -> Path:
