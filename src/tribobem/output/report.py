@@ -22,7 +22,15 @@ _CAPTIONS = {
     "pressure_pulloff": "Pressure map at pull-off.",
     "contact_pulloff": "Contact map at pull-off.",
     "topography": "Initial gap and roughness of the bodies.",
+    "stick_ratio": ("Stick ratio A_stick / A_c (compressive contact) and tangential displacement \u03b4\u2093 of "
+                    "body 2 against F\u2093 / (\u03bc F\u2080\u207a), F\u2080\u207a the repulsive force of each "
+                    "step; gross-slip onset (dashed) and presliding displacement (dotted) marked."),
+    "stick_normal": ("Stick ratio (and stick-radius ratio c/a when computed) along the normal-load path: "
+                     "slip from the normal load alone (frictional Poisson coupling)."),
 }
+_STICKSLIP_CAPTION = ("Stick/slip map of step {k}: compressive contact that sticks (blue) or slips (red), "
+                      "tensile zone p < 0 where no shear acts (pale amber), no contact (grey); arrows: "
+                      "tangential traction q on body 1, on a common scale across the maps.")
 
 # key -> (label, dimension) of the run-level scalars shown in the table
 _RUN_SCALARS = (
@@ -38,19 +46,36 @@ _PROBLEM_SCALARS = (
     ("tabor_parameter", "Tabor parameter \u03bc_T", "dimensionless"),
     ("maugis_parameter", "Maugis parameter \u03bb", "dimensionless"),
 )
+# run-level scalars of the tangential kinds (partial_slip, hysteresis)
+_FRICTION_SCALARS = (
+    ("friction_coefficient", "friction coefficient \u03bc", "dimensionless"),
+    ("static_friction_force", "static friction force (gross-slip onset)", "force"),
+    ("static_friction_ratio", "static friction ratio F\u2093 / (\u03bc F\u2080\u207a) at onset", "dimensionless"),
+    ("presliding_displacement", "presliding displacement", "length"),
+    ("sliding_force", "sliding force (gross-sliding plateau)", "force"),
+    ("gross_slip", "gross slip reached", "yesno"),
+)
+# (key, header, dimension, optional): optional columns appear only when a step has the key
 _STEP_COLUMNS = (
-    ("branch", "branch", None),
-    ("normal_force", "F", "force"),
-    ("approach", "\u03b4", "length"),
-    ("contact_area", "A contact", "area"),
-    ("adhesive_area", "A adhesive", "area"),
-    ("repulsive_force", "F\u207a", "force"),
-    ("adhesive_force", "F\u207b", "force"),
-    ("max_pressure", "p max", "pressure"),
-    ("mean_gap", "mean gap", "length"),
-    ("iterations", "iter.", None),
-    ("residual", "residual", None),
-    ("converged", "conv.", None),
+    ("branch", "branch", None, True),
+    ("cycle", "cycle", None, True),
+    ("normal_force", "F", "force", False),
+    ("approach", "\u03b4", "length", False),
+    ("tangential_force_x", "F\u2093", "force", True),
+    ("displacement_x", "\u03b4\u2093", "length", True),
+    ("stick_ratio", "stick ratio", "dimensionless", True),
+    ("stick_radius_ratio", "c / a", "dimensionless", True),
+    ("contact_area", "A contact", "area", False),
+    ("adhesive_area", "A adhesive", "area", False),
+    ("repulsive_force", "F\u207a", "force", False),
+    ("adhesive_force", "F\u207b", "force", False),
+    ("max_pressure", "p max", "pressure", False),
+    ("mean_gap", "mean gap", "length", False),
+    ("iterations", "iter.", None, False),
+    ("coupling_iterations", "coupl. iter.", None, True),
+    ("tangential_iterations", "tang. iter.", None, True),
+    ("residual", "residual", None, False),
+    ("converged", "conv.", None, False),
 )
 
 _CSS = """
@@ -62,9 +87,11 @@ th{background:#f4f4f4}td.l,th.l{text-align:left}
 .ok{background:#e6f4ea;border:1px solid #34a853;padding:.6em 1em;border-radius:4px}
 .warn{background:#fdecea;border:2px solid #d93025;padding:.6em 1em;border-radius:4px;font-weight:600}
 .note{background:#fff8e1;border:1px solid #f9a825;padding:.4em 1em;border-radius:4px;margin:.4em 0}
+.warnings{background:#fff4dc;border:2px solid #f0a30a;border-left:10px solid #f0a30a;padding:.5em 1em;
+border-radius:4px;margin:.8em 0}.warnings b{color:#8a5300}.warnings ul{margin:.3em 0 .1em 1.2em;padding:0}
 figure{display:inline-block;margin:.5em;vertical-align:top;max-width:520px}figure img{max-width:100%}
 figcaption{font-size:.85em;color:#555}pre{background:#f7f7f7;padding:1em;overflow:auto;font-size:.8em;max-height:30em}
-.muted{color:#777;font-size:.85em}
+.muted{color:#777;font-size:.85em}.scroll{overflow-x:auto;max-width:100%}.steps{font-size:.8em}.steps td{white-space:nowrap;padding:2px 5px}.steps th{padding:2px 5px}
 """
 
 
@@ -77,9 +104,19 @@ def _fmt(value, dim) -> str:
         if isinstance(value, float):
             return f"{value:.3g}"
         return str(value)
+    if dim == "yesno":
+        return "yes" if value else "no"
     if dim == "dimensionless":
         return f"{float(value):.4g}"
     return format_quantity(value, dim, 4)
+
+
+def _caption(name: str) -> str:
+    if name.startswith("stickslip_step"):
+        return _STICKSLIP_CAPTION.format(k=name[len("stickslip_step"):])
+    if name.startswith("stickslip_field"):
+        return _STICKSLIP_CAPTION.format(k=f"{name[len('stickslip_field'):]} of fields.nc")
+    return _CAPTIONS.get(name, name)
 
 
 def _img(path: Path) -> str:
@@ -110,6 +147,11 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
     parts.append(f"<p class='muted'>kind: <b>{e(str(s.get('kind')))}</b> &middot; {e(created)} &middot; "
                  f"tribobem {e(str(s.get('versions', {}).get('tribobem', '')))}</p>")
 
+    warns = [str(w) for w in (s.get("warnings") or []) if w]
+    if warns:  # prominently, before anything else
+        parts.append(f"<div class='warnings' role='alert'><b>\u26a0 {len(warns)} warning(s)</b><ul>"
+                     + "".join(f"<li>{e(w)}</li>" for w in warns) + "</ul></div>")
+
     steps = s.get("steps", [])
     n_bad = sum(1 for st in steps if not st.get("converged", True))
     if s.get("converged"):
@@ -118,8 +160,6 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
         parts.append(f"<p class='warn'>WARNING: not converged. {n_bad} of {len(steps)} step(s) did not reach the "
                      "solver tolerance; their results are unreliable. Raise solver.max_iterations, loosen "
                      "solver.tolerance, or refine the load steps.</p>")
-    for w in s.get("warnings", []) or []:
-        parts.append(f"<p class='note'>{e(str(w))}</p>")
 
     # key scalars
     rows = []
@@ -150,23 +190,31 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
     parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in rows]
     parts.append("</table>")
 
+    fric = [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS if s.get(key) is not None]
+    if fric:
+        parts.append("<h2>Friction</h2><table>")
+        parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in fric]
+        parts.append("</table>")
+
     if figures:
         parts.append("<h2>Figures</h2>")
         for name, path in figures.items():
             if path is None or not Path(path).exists():
                 continue
             parts.append(f"<figure><img alt='{e(name)}' src='{_img(path)}'><figcaption>"
-                         f"{e(_CAPTIONS.get(name, name))}</figcaption></figure>")
+                         f"{e(_caption(name))}</figcaption></figure>")
 
     if steps:
-        parts.append(f"<h2>Steps ({len(steps)})</h2><table><tr><th>#</th>"
-                     + "".join(f"<th>{e(c[1])}</th>" for c in _STEP_COLUMNS) + "</tr>")
+        cols = [(k, h, d) for k, h, d, optional in _STEP_COLUMNS
+                if not optional or any(st.get(k) is not None for st in steps)]
+        parts.append(f"<h2>Steps ({len(steps)})</h2><div class='scroll'><table class='steps'><tr><th>#</th>"
+                     + "".join(f"<th>{e(c[1])}</th>" for c in cols) + "</tr>")
         show = steps if len(steps) <= 200 else steps[:100] + steps[-100:]
         for i, st in enumerate(show):
             idx = i if len(steps) <= 200 or i < 100 else len(steps) - 200 + i
-            cells = "".join(f"<td>{e(_fmt(st.get(k), d))}</td>" for k, _, d in _STEP_COLUMNS)
+            cells = "".join(f"<td>{e(_fmt(st.get(k), d))}</td>" for k, _, d in cols)
             parts.append(f"<tr><td>{idx}</td>{cells}</tr>")
-        parts.append("</table>")
+        parts.append("</table></div>")
     if s.get("jumps"):
         parts.append("<h2>Jumps</h2><ul>")
         for j in s["jumps"]:
