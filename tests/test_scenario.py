@@ -121,9 +121,17 @@ def test_shape_kinds_validate(shape):
     parse_scenario(scenario(body2__shape=shape))
 
 
+#: What each kind needs on top of BASE to be a complete scenario.
+KIND_EXTRAS = {
+    "pulloff": {"load__preload": "1 uN", "adhesion": {"work_of_adhesion": 0.05, "z0": 3e-10}},
+    "partial_slip": {"friction": {"coefficient": 0.2}},
+    "hysteresis": {"friction": {"coefficient": 0.2, "path": {"control": "force", "cycles": 1, "steps": 8}}},
+}
+
+
 @pytest.mark.parametrize("kind", KINDS)
 def test_all_kinds_are_accepted(kind):
-    extra = {"load__preload": "1 uN", "adhesion": {"work_of_adhesion": 0.05, "z0": 3e-10}} if kind == "pulloff" else {}
+    extra = KIND_EXTRAS.get(kind, {})
     assert parse_scenario(scenario(kind=kind, **extra)).kind == kind
 
 
@@ -334,7 +342,7 @@ def test_output_fields_last_keeps_the_most_loaded_step():
 @pytest.mark.parametrize("kind", sorted(set(KINDS) - set(IMPLEMENTED_KINDS)))
 def test_unimplemented_kinds_fail_clearly(kind):
     with pytest.raises(NotImplementedKindError, match="not implemented yet in this version"):
-        run_scenario(scenario(kind=kind), progress=False)
+        run_scenario(scenario(kind=kind, **KIND_EXTRAS.get(kind, {})), progress=False)
 
 
 def test_nonconvergence_is_reported_not_silent():

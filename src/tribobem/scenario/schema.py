@@ -429,7 +429,9 @@ class BodySpec(Section):
 # ----------------------------------------------------------------------------- load and physics
 class LoadSpec(Section):
     """``[load]``: one of ``force``, ``approach``, ``forces``, ``approaches`` (kind normal);
-    ``preload``, ``control``, ``steps``, ``refine``, ``loading`` (kind pulloff)."""
+    ``preload``, ``control``, ``steps``, ``refine``, ``loading`` (kind pulloff); ``force`` (held
+    during the tangential ramp) or ``forces`` (a normal-load path) for kind partial_slip;
+    ``force`` for kind hysteresis."""
 
     force: Optional[Quantity("force")] = None
     approach: Optional[Quantity("length")] = None
@@ -471,20 +473,91 @@ class AdhesionSpec(Section):
         return self.model == "dugdale"
 
 
+def Angle():
+    """An angle in degrees: a number (degrees) or a string with an angle unit (``"30 deg"``,
+    ``"0.5 rad"``), finite."""
+    angle_units = {"degree", "radian", "arcminute", "arcsecond", "turn", "gradian"}
+
+    def validate(raw):
+        message = f"expected an angle in degrees (a number, or a string such as \"30 deg\"), got {raw!r}"
+        if isinstance(raw, bool):
+            raise PydanticCustomError("quantity", "{message}", {"message": message})
+        if isinstance(raw, (int, float)):
+            v = float(raw)
+        elif isinstance(raw, str):
+            try:
+                v = float(raw.strip())
+            except ValueError:
+                from ..units import registry
+
+                try:
+                    q = registry().Quantity(raw.strip())
+                except Exception:
+                    raise PydanticCustomError("quantity", "{message}", {"message": message}) from None
+                if not hasattr(q, "units") or str(q.units) not in angle_units:
+                    raise PydanticCustomError("quantity", "{message}", {"message": message})
+                v = float(q.to("degree").magnitude)
+        else:
+            raise PydanticCustomError("quantity", "{message}", {"message": message})
+        return _check_range(v, raw, None, None, None, None, "deg")
+
+    return Annotated[float, BeforeValidator(validate)]
+
+
 class PathSpec(Section):
+    """``friction.path`` of a hysteresis run (SPEC 9.1, Paper E).
+
+    ``control = "force"``: the tangential force cycles between +-F*, ``amplitude`` =
+    F*/(mu F0+ at F_x = 0) in (0, 1] (default 0.999).  ``control = "displacement"``: the rigid
+    shift cycles 0 -> +stroke/2 -> -stroke/2 -> ..., ``stroke`` (peak to peak, > 0 m) required.
+    ``cycles`` (>= 1) does not count the initial loading; ``steps`` (>= 2) per cycle.
+    """
+
     control: Literal["force", "displacement"] = "force"
     amplitude: Optional[Number(gt=0, le=1)] = None
     stroke: Optional[Quantity("length", gt=0)] = None
     cycles: Int(ge=1) = 1
     steps: Int(ge=2) = 40
 
+    @model_validator(mode="after")
+    def _control_keys(self):
+        if self.control == "force":
+            if self.stroke is not None:
+                _fail("stroke", "only with control = 'displacement'; a force-controlled path takes "
+                                "amplitude in (0, 1] (F*/(mu F0+))")
+            if self.amplitude is None:
+                self.amplitude = 0.999
+        else:
+            if self.amplitude is not None:
+                _fail("amplitude", "only with control = 'force'; a displacement-controlled path takes "
+                                   "stroke > 0 m (peak to peak)")
+            if self.stroke is None:
+                _fail("stroke", "required with control = 'displacement': the peak-to-peak stroke, > 0 m "
+                                "(e.g. \"3 um\")")
+        return self
+
 
 class FrictionSpec(Section):
-    """``[friction]`` (used by partial_slip and hysteresis runs, not yet implemented)."""
+    """``[friction]`` of the tangential kinds (SPEC 9.1).
+
+    ``coefficient`` mu >= 0 (0: frictionless; required by partial_slip and hysteresis).
+    partial_slip: ``tangential_forces`` (N, along ``direction``; may be negative) or
+    ``tangential_displacements`` (m, rigid shifts of body 2 along ``direction``), each a list
+    or a ``{start, stop, num}`` table; omitted: 0.  ``direction`` in degrees from the x axis
+    (default 0).  ``slip``: ``"total"`` (one step from the undeformed state, Paper D) or
+    ``"incremental"`` (slip increments, history).  hysteresis: ``path`` (:class:`PathSpec`).
+    """
 
     coefficient: Optional[Number(ge=0)] = None
     tangential_forces: Optional[QuantityList("force")] = None
+    tangential_displacements: Optional[QuantityList("length")] = None
+    direction: Angle() = 0.0
+    slip: Literal["total", "incremental"] = "total"
     path: Optional[PathSpec] = None
+
+    @property
+    def tangential_given(self) -> list[str]:
+        return [k for k in ("tangential_forces", "tangential_displacements") if getattr(self, k) is not None]
 
 
 class HumiditySpec(Section):
@@ -561,7 +634,85 @@ class Scenario(Section):
             if load.preload is None:
                 _fail("load.preload", "required for kind = 'pulloff': the compressive force (> 0 N) "
                       "from which the unloading starts")
+        elif self.kind == "partial_slip":
+            self._partial_slip()
+        elif self.kind == "hysteresis":
+            self._hysteresis()
         return self
+
+    # -- the tangential kinds (SPEC 9.1 extensions)
+    def _friction_coefficient(self) -> FrictionSpec:
+        fr = self.friction
+        if fr is None or fr.coefficient is None:
+            _fail("friction.coefficient", f"required for kind = {self.kind!r}: the friction coefficient "
+                                          "mu >= 0 (0: frictionless), in a [friction] section")
+        return fr
+
+    def _positive_normal_load(self):
+        load = self.load
+        if self.adhesion.enabled:
+            return
+        if load.force is not None and load.force <= 0:
+            _fail("load.force", f"must be > 0 N without adhesion, got {load.force:g} N "
+                                "(a tensile load needs [adhesion])")
+        if load.forces is not None and min(load.forces) <= 0:
+            _fail("load.forces", "every force must be > 0 N without adhesion "
+                                 f"(got {min(load.forces):g} N; a tensile load needs [adhesion])")
+
+    def _partial_slip(self):
+        fr, load = self._friction_coefficient(), self.load
+        if fr.path is not None:
+            _fail("friction.path", "used by kind = 'hysteresis' only; a partial_slip ramp is "
+                                   "friction.tangential_forces or friction.tangential_displacements")
+        if len(fr.tangential_given) > 1:
+            _fail("friction.tangential_displacements", "give at most one of tangential_forces (force "
+                  "control) or tangential_displacements (displacement control)")
+        for key in ("approach", "approaches"):
+            if getattr(load, key) is not None:
+                _fail(f"load.{key}", "approach-controlled normal loads are not supported for kind = "
+                      "'partial_slip'; give load.force (held during the tangential ramp) or load.forces "
+                      "(a normal-load path)")
+        if load.force is None and load.forces is None:
+            _fail("load.force", "required for kind = 'partial_slip': the normal force held during the "
+                  "tangential ramp (or load.forces, a normal-load path)")
+        if load.force is not None and load.forces is not None:
+            _fail("load.forces", "give one of load.force (held during the tangential ramp) or "
+                                 "load.forces (a normal-load path), not both")
+        self._positive_normal_load()
+        if load.forces is not None:
+            if fr.slip == "total" and len(load.forces) > 1:
+                _fail("friction.slip", "must be 'incremental' with a normal-load path (load.forces with "
+                      f"{len(load.forces)} forces): the total criterion solves every step from the "
+                      "undeformed state and has no history, so it cannot follow a path")
+            for key in fr.tangential_given:
+                n_t = len(getattr(fr, key))
+                if n_t != len(load.forces):
+                    _fail(f"friction.{key}", f"with load.forces the two lists are paired step by step and "
+                          f"must have the same length; got {n_t} against {len(load.forces)} normal forces")
+
+    def _hysteresis(self):
+        fr, load = self._friction_coefficient(), self.load
+        if fr.path is None:
+            _fail("friction.path", "required for kind = 'hysteresis': e.g. { control = \"force\", "
+                  "amplitude = 0.999, cycles = 3, steps = 80 } or { control = \"displacement\", "
+                  "stroke = \"3 um\", cycles = 4, steps = 80 }")
+        for key in fr.tangential_given:
+            _fail(f"friction.{key}", "not used by kind = 'hysteresis': its tangential loading is "
+                                     "friction.path")
+        if "slip" in fr.model_fields_set and fr.slip == "total":
+            _fail("friction.slip", "a hysteresis loop follows the load history: slip must be 'incremental' "
+                                   "(or left out); the total criterion has no history")
+        if fr.path.control == "force" and fr.coefficient == 0:
+            _fail("friction.coefficient", "must be > 0 for a force-controlled path: its amplitude is a "
+                                          "fraction of mu F0+ (got 0)")
+        for key in ("forces", "approach", "approaches"):
+            if getattr(load, key) is not None:
+                _fail(f"load.{key}", "kind = 'hysteresis' takes one normal force, load.force (held "
+                                     "during the tangential cycles)")
+        if load.force is None:
+            _fail("load.force", "required for kind = 'hysteresis': the normal force held during the "
+                                "tangential cycles (> 0 N without adhesion)")
+        self._positive_normal_load()
 
     @property
     def implemented(self) -> bool:
