@@ -1,0 +1,580 @@
+"""Tangential contact at a given pressure: partial slip with Coulomb friction (Paper D).
+
+The problem (SPEC 7; Paper D Eqs. 7, 12-13): on the compressive contact C+ (contact nodes with
+p > 0; no shear in the adhesive zone, Paper D) find the shear q = (q_x, q_y) acting on body 1
+such that, with the slip
+
+    s = K_tt q + K_tz p - s_ref - delta,
+
+* stick nodes: |q| < mu p and s = 0;
+* slip nodes:  |q| = mu p and q opposes the slip, q = -mu p s/|s|;
+
+and either the tangential force sum(q) dx dy = (F_x, F_y) (force control; the rigid shift
+delta = (delta_x, delta_y) is an unknown) or delta given (displacement control).  ``s_ref`` is
+zero in the "total" mode (slip measured from the undeformed state, Paper D: normal and
+tangential loads applied in one step) and the relative displacement u1 - u2 - delta of the
+previous step in the "incremental" mode (Paper E Eq. 5: the slip increment), which carries the
+load history.  Classical, non-associated Coulomb friction: the normal gap is not affected by
+slip (no dilatancy).
+
+Method (ours; the thesis cites its tangential CGM without describing it).  The problem is the
+minimisation of the convex energy 1/2 q.K_tt q + q.(K_tz p - s_ref) over the set C of tractions
+with |q_i| <= mu p_i (the friction discs) and, under force control, sum(q) = F / (dx dy); the
+rigid shift delta is the multiplier of that constraint.  We solve it by an accelerated projected
+gradient (FISTA, Beck and Teboulle 2009) with adaptive restart (O'Donoghue and Candes 2015):
+
+1. a gradient step from the extrapolated point y: z = y - (K_tt y + K_tz p - s_ref - delta)/L,
+   with L the largest eigenvalue of the 2x2 symbol of K_tt (an upper bound of the restricted
+   operator's spectrum, so every step decreases the energy);
+2. the exact Euclidean projection onto C: q_i = P_disc_i(z_i + lambda), the 2-D multiplier
+   lambda found by safeguarded Newton steps on the monotone force balance sum_i q_i = F/(dx dy)
+   (force control; delta = L lambda at the fixed point); nodes whose trial lies inside their
+   disc stick, the others slip on the rim, opposing their slip;
+3. the momentum is dropped whenever it points uphill (gradient restart).
+
+One tangential convolution (two forward and two inverse real FFTs) per iteration; every
+iteration is a descent step of a convex problem, so the method converges from any start,
+through any change of the stick set and of the slip directions (the Polonsky-Keer-like
+active-set variants we tried first oscillated when the slip directions rotate, as they do for
+dissimilar materials).  Warm starts (the previous step or coupling iteration) cut the count.
+
+Convergence needs both the relative traction change sum|dq| / sum mu p and the stick-slip
+complementarity residual to fall below ``tol``: the rms over C+ of |s| on stick nodes and of
+the part of s that does not oppose q on slip nodes, relative to the slip scale
+max|K_tt (mu p e_x)| (the displacement that full slip along x would produce).  The solver never
+stops silently short of the tolerance: non-convergence gives ``converged=False``, the
+residual history and a :class:`~tribobem.errors.ConvergenceWarning` (or an error with
+``strict=True``).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+
+import numpy as np
+
+from ..elasticity.operators import ConvolutionOperator
+from ..errors import ConvergenceError, ConvergenceWarning, InputError
+from ..results import TangentialResult
+
+__all__ = ["TangentialOperator", "tangential_operator", "solve_tangential", "GrossSlipError"]
+
+
+class GrossSlipError(InputError):
+    """The tangential force exceeds what the contact can carry (gross sliding).
+
+    Attributes
+    ----------
+    max_force : float
+        The largest tangential force magnitude with an equilibrium, mu F0+ (N).
+    """
+
+    def __init__(self, field: str, message: str, max_force: float):
+        self.max_force = max_force
+        super().__init__(field, message)
+
+
+class TangentialOperator:
+    """The tangential and coupling blocks of a 3x3 operator, applied with real FFTs.
+
+    Parameters
+    ----------
+    op : ConvolutionOperator
+        An operator with components ("x", "y", "z") (free boundary or periodic).
+
+    Notes
+    -----
+    ``shear_displacement`` costs two forward and two inverse FFTs; ``from_pressure`` one
+    forward and two inverse; ``normal_from_shear`` two forward and one inverse.  Blocks that are
+    zero (the coupling of identical materials) are skipped.
+    """
+
+    def __init__(self, op: ConvolutionOperator):
+        if tuple(op.components) != ("x", "y", "z"):
+            raise InputError("operator", "the tangential solver needs an operator with components "
+                                         f"('x', 'y', 'z'), got {op.components!r}")
+        self.op = op
+        self.be = op.backend
+        self.xp = op.xp
+        self.grid = op.grid
+        self.shape = op.grid.shape
+        self.fft_shape = op.fft_shape
+        self.periodic = op.periodic
+        self.spec = {k: op.spectra.get(k) for k in ("xx", "xy", "yx", "yy", "xz", "yz", "zx", "zy")}
+        self.coupled = any(self.spec[k] is not None for k in ("xz", "yz", "zx", "zy"))
+        # Self-compliances (m/Pa) of a cell for x and y shear: the diagonal of K_tt.
+        e = self.xp.zeros(self.shape)
+        e[0, 0] = 1.0
+        ux, _ = self.shear_displacement(e, self.xp.zeros(self.shape))
+        _, uy = self.shear_displacement(self.xp.zeros(self.shape), e)
+        self.self_compliance = (float(self.be.to_numpy(ux)[0, 0]), float(self.be.to_numpy(uy)[0, 0]))
+        # Largest eigenvalue of K_tt (m/Pa): the step bound of the projected gradient.  The
+        # restriction of the (circulant) operator to the contact cannot exceed the largest
+        # eigenvalue of its 2x2 symbol.
+        sx, sy = self.spec["xx"], self.spec["yy"]
+        sxy = self.spec["xy"]
+        sx = np.abs(self.be.to_numpy(sx)) if sx is not None else 0.0
+        sy = np.abs(self.be.to_numpy(sy)) if sy is not None else 0.0
+        sxy = np.abs(self.be.to_numpy(sxy)) if sxy is not None else 0.0
+        lam = 0.5 * (sx + sy) + np.sqrt(0.25 * (sx - sy) ** 2 + sxy**2)
+        self.lipschitz = float(np.max(lam))
+
+    def _crop(self, u):
+        return u if self.periodic else u[: self.shape[0], : self.shape[1]]
+
+    def _combine(self, outs: str, ins: str, fields) -> list:
+        be = self.be
+        F = {c: be.rfft2(f, s=self.fft_shape) for c, f in zip(ins, fields) if f is not None}
+        res = []
+        for o in outs:
+            acc = None
+            for c, T in F.items():
+                spec = self.spec.get(o + c)
+                if spec is None:
+                    continue
+                term = T * spec
+                acc = term if acc is None else acc + term
+            res.append(None if acc is None else self._crop(be.irfft2(acc, s=self.fft_shape)))
+        return res
+
+    def shear_displacement(self, qx, qy):
+        """In-plane relative displacement (u_x, u_y) in m from the shear (q_x, q_y) in Pa."""
+        ux, uy = self._combine("xy", "xy", (qx, qy))
+        z = self.xp.zeros(self.shape)
+        return (z if ux is None else ux), (z if uy is None else uy)
+
+    def from_pressure(self, p):
+        """In-plane relative displacement (m) from the pressure p (Pa): the coupling K_tz p."""
+        ux, uy = self._combine("xy", "z", (p,))
+        z = self.xp.zeros(self.shape)
+        return (z if ux is None else ux), (z if uy is None else uy)
+
+    def normal_from_shear(self, qx, qy):
+        """Normal relative displacement (m, into the bodies) from the shear: K_zx q_x + K_zy q_y."""
+        (uz,) = self._combine("z", "xy", (qx, qy))
+        return self.xp.zeros(self.shape) if uz is None else uz
+
+
+def tangential_operator(op: ConvolutionOperator) -> TangentialOperator:
+    """The (cached) :class:`TangentialOperator` view of a 3x3 operator."""
+    cache = op.__dict__.get("_tangential_view")
+    if cache is None:
+        cache = TangentialOperator(op)
+        op.__dict__["_tangential_view"] = cache
+    return cache
+
+
+def _as_pair(value, name: str):
+    if value is None:
+        return None
+    try:
+        a, b = (float(v) for v in value)
+    except TypeError:
+        a, b = float(value), 0.0
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise InputError(name, f"must be finite, got {value!r}")
+    return np.array([a, b])
+
+
+def solve_tangential(
+    operator: ConvolutionOperator,
+    pressure,
+    contact,
+    *,
+    friction_coefficient: float,
+    force=None,
+    displacement=None,
+    reference=None,
+    initial_shear=None,
+    pressure_displacement=None,
+    tol: float = 1e-8,
+    max_iterations: int = 5000,
+    strict: bool = False,
+    stall: int = 1000,
+) -> TangentialResult:
+    """Solve the partial-slip problem at a given pressure.
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        Coupled operator with components ("x", "y", "z").
+    pressure : array_like
+        Normal traction p (Pa) of the solved normal problem.
+    contact : array_like of bool
+        Its contact mask; shear acts on ``contact & (p > 0)`` only.
+    friction_coefficient : float
+        mu >= 0 (0: frictionless, any tangential force is gross sliding).
+    force : (float, float) or float, optional
+        Tangential force (F_x, F_y) on body 2 in N (force control).
+    displacement : (float, float) or float, optional
+        Rigid tangential displacement (delta_x, delta_y) of body 2 relative to body 1 in m
+        (displacement control).  Give exactly one of ``force`` and ``displacement``.
+    reference : array_like, shape (2, nx, ny), optional
+        Relative displacement u1 - u2 - delta of the previous step (incremental mode, Paper E
+        Eq. 5): the slip is measured from it.  None: total mode (from the undeformed state).
+    initial_shear : array_like, shape (2, nx, ny), optional
+        Warm start (Pa), e.g. the shear of the previous step or coupling iteration.
+    pressure_displacement : array_like, shape (2, nx, ny), optional
+        K_tz p if already known (saves a convolution).
+    tol : float
+        Tolerance on the relative traction change and the complementarity residual.
+    max_iterations : int
+    strict : bool
+        Raise :class:`~tribobem.errors.ConvergenceError` instead of warning.
+    stall : int
+        Stop (not converged) after this many iterations without improving the residual.
+
+    Returns
+    -------
+    TangentialResult
+
+    Raises
+    ------
+    GrossSlipError
+        Under force control when |F| >= mu F0+ (no equilibrium: gross sliding), or mu = 0
+        with a nonzero force.
+    InputError
+        Bad friction coefficient, load, shapes or non-finite values.
+    """
+    t_start = time.perf_counter()
+    top = tangential_operator(operator)
+    xp, be, grid = top.xp, top.be, top.grid
+    mu = friction_coefficient
+    if not isinstance(mu, (int, float)) or not math.isfinite(mu) or mu < 0:
+        raise InputError("friction.coefficient", f"must be a finite number >= 0, got {mu!r}")
+    if (force is None) == (displacement is None):
+        raise InputError("friction", "give exactly one of force (force control) or displacement (displacement control)")
+    F = _as_pair(force, "friction.tangential_force")
+    D = _as_pair(displacement, "friction.tangential_displacement")
+    if not (tol > 0 and math.isfinite(tol)):
+        raise InputError("solver.tolerance", f"must be a finite value > 0, got {tol!r}")
+    p = xp.asarray(pressure, dtype=float)
+    if p.shape != grid.shape:
+        raise InputError("pressure", f"shape {tuple(p.shape)} does not match the grid {grid.shape}")
+    if not bool(xp.all(xp.isfinite(p))):
+        raise InputError("pressure", "contains NaN or infinite values")
+    cmask = xp.asarray(contact, dtype=bool) & (p > 0)
+    mode = "total" if reference is None else "incremental"
+    cell = grid.cell_area
+    idx = xp.flatnonzero(cmask.ravel())
+    n_c = int(idx.size)
+    bound = mu * p.ravel()[idx]  # friction-disc radii (Pa)
+    capacity = float(bound.sum()) * cell  # mu F0+ (N)
+
+    # Fixed part of the slip: K_tz p - s_ref (m), on the contact nodes.
+    if pressure_displacement is None:
+        wx, wy = top.from_pressure(p) if top.coupled else (None, None)
+    else:
+        wx, wy = (xp.asarray(a, dtype=float) for a in pressure_displacement)
+    v0 = xp.zeros((2, n_c))
+    if wx is not None:
+        v0[0] = wx.ravel()[idx]
+        v0[1] = wy.ravel()[idx]
+    ref_full = None
+    if reference is not None:
+        ref_full = xp.asarray(reference, dtype=float)
+        if ref_full.shape != (2,) + grid.shape:
+            raise InputError("reference", f"shape {tuple(ref_full.shape)} must be (2, {grid.nx}, {grid.ny})")
+        v0[0] -= ref_full[0].ravel()[idx]
+        v0[1] -= ref_full[1].ravel()[idx]
+
+    force_control = F is not None
+    if force_control:
+        Fmag = float(np.hypot(*F))
+        if n_c == 0 and Fmag > 0:
+            raise GrossSlipError("friction.tangential_force",
+                                 f"a tangential force of {Fmag:.4g} N with no compressive contact: nothing can carry it "
+                                 "(gross sliding)", 0.0)
+        if Fmag >= capacity * (1.0 - 1e-12) and Fmag > 0:
+            why = ("the friction coefficient is 0 (frictionless): any tangential force is gross sliding"
+                   if mu == 0 else f"it reaches mu F0+ = {capacity:.6g} N, the most the contact can carry")
+            raise GrossSlipError("friction.tangential_force",
+                                 f"gross sliding: |F_t| = {Fmag:.6g} N has no equilibrium; {why}", capacity)
+        target = F / cell  # target sum of q (Pa)
+        delta = np.zeros(2)
+    else:
+        target = None
+        delta = D.copy()
+
+    # Initial shear: warm start projected onto the discs, else zero (all nodes stick).
+    q = xp.zeros((2, n_c))
+    if initial_shear is not None:
+        q0 = xp.asarray(initial_shear, dtype=float)
+        if q0.shape != (2,) + grid.shape:
+            raise InputError("initial_shear", f"shape {tuple(q0.shape)} must be (2, {grid.nx}, {grid.ny})")
+        q[0] = q0[0].ravel()[idx]
+        q[1] = q0[1].ravel()[idx]
+        _project(xp, q, bound)
+    elif force_control and capacity > 0:
+        # Admissible start with the right force: q = (F / mu F0+) mu p, all nodes stick.
+        q[0] = bound * (F[0] * cell / capacity)
+        q[1] = bound * (F[1] * cell / capacity)
+    kii = np.array(top.self_compliance)
+
+    st = _Tangential(top, idx, bound, v0, q, delta, force_control, target, kii, top.lipschitz)
+    # Slip scale (m): displacement of full slip along x.
+    s_scale = st.slip_scale()
+    history: list[float] = []
+    converged, message = False, ""
+    best, best_it = float("inf"), 0
+    if n_c == 0:
+        converged, message = True, "no compressive contact: no shear"
+    elif mu == 0.0:
+        converged, message = True, "frictionless (mu = 0): no shear"
+        st.finish_frictionless()
+    else:
+        for it in range(1, max_iterations + 1):
+            st.iterate()
+            res = max(st.change, st.complementarity / s_scale)
+            history.append(res)
+            if res < best:
+                best, best_it = res, it
+            elif it - best_it >= stall:
+                message = (f"stalled: no progress in {stall} iterations (residual {res:.3e}, best {best:.3e}, "
+                           f"tolerance {tol:.1e})")
+                break
+            if res < tol:
+                converged = True
+                message = f"converged in {it} iterations"
+                break
+        else:
+            message = f"not converged after {max_iterations} iterations (residual {history[-1]:.3e}, tolerance {tol:.1e})"
+
+    # Final fields (full grid), consistent with the returned shear.
+    qx = xp.zeros(grid.size if hasattr(grid, "size") else grid.nx * grid.ny)
+    qy = xp.zeros_like(qx)
+    qx[idx] = st.q[0]
+    qy[idx] = st.q[1]
+    qx, qy = qx.reshape(grid.shape), qy.reshape(grid.shape)
+    ux, uy = top.shear_displacement(qx, qy)
+    delta = st.delta if force_control else D
+    relx, rely = ux - delta[0], uy - delta[1]
+    if wx is not None:
+        relx = relx + wx
+        rely = rely + wy
+    slipx, slipy = relx, rely
+    if ref_full is not None:
+        slipx = relx - ref_full[0]
+        slipy = rely - ref_full[1]
+    stick = xp.zeros(grid.nx * grid.ny, dtype=bool)
+    stick[idx] = st.stick
+    stick = stick.reshape(grid.shape)
+    fx = float(st.q[0].sum()) * cell
+    fy = float(st.q[1].sum()) * cell
+    gross = n_c > 0 and not bool(st.stick.any())
+    if not converged:
+        if strict:
+            raise ConvergenceError(message)
+        warnings.warn(f"tangential solver: {message}", ConvergenceWarning, stacklevel=2)
+    tn = be.to_numpy
+    return TangentialResult(
+        grid=grid,
+        shear=np.stack([tn(qx), tn(qy)]),
+        slip=np.stack([tn(slipx), tn(slipy)]),
+        relative_displacement=np.stack([tn(relx), tn(rely)]),
+        contact=tn(cmask),
+        stick=tn(stick),
+        force_x=fx,
+        force_y=fy,
+        displacement_x=float(delta[0]),
+        displacement_y=float(delta[1]),
+        friction_coefficient=float(mu),
+        mode=mode,
+        control="force" if force_control else "displacement",
+        iterations=len(history),
+        residual_history=np.asarray(history),
+        converged=converged,
+        gross_slip=gross,
+        time=time.perf_counter() - t_start,
+        message=message,
+        info={"capacity": capacity, "slip_scale": s_scale, "convolutions": st.n_apply, "restarts": st.restarts},
+    )
+
+
+def _project(xp, q, bound):
+    """Project the tractions q (2, n) onto the discs |q| <= bound, in place; returns the mask
+    of the nodes that were on or beyond the rim."""
+    mag = xp.sqrt(q[0] * q[0] + q[1] * q[1])
+    over = mag >= bound
+    if bool(over.any()):
+        with np.errstate(invalid="ignore", divide="ignore"):
+            f = xp.where(over, bound / xp.where(mag > 0, mag, 1.0), 1.0)
+        q *= f
+    return over
+
+
+def _dot(a, b) -> float:
+    return float((a * b).sum())
+
+
+class _Tangential:
+    """Working state of the accelerated projected-gradient iteration on the contact set."""
+
+    # A stick node is strictly inside its disc; slip nodes sit on the rim.
+    RIM = 1.0 - 1e-9
+
+    def __init__(self, top, idx, bound, v0, q, delta, force_control, target, kii, lipschitz):
+        self.top, self.xp = top, top.xp
+        self.idx, self.bound, self.v0 = idx, bound, v0
+        self.force_control, self.target = force_control, target
+        self.kii = kii
+        self.L = lipschitz
+        self.n = int(idx.size)
+        size = top.grid.nx * top.grid.ny
+        self.full = (self.xp.zeros(size), self.xp.zeros(size))
+        self.delta = np.array(delta, dtype=float)
+        self.lam = np.zeros(2)
+        self.q = q
+        self.Kq = self._apply(q)
+        self.y, self.Ky = q.copy(), self.Kq.copy()
+        self.t_mom = 1.0
+        self.stick = self._stick_mask()
+        self.change = float("inf")
+        self.complementarity = float("inf")
+        self.n_apply = 2
+        self.restarts = 0
+
+    def _stick_mask(self):
+        xp = self.xp
+        mag = xp.sqrt(self.q[0] ** 2 + self.q[1] ** 2)
+        return mag < self.bound * self.RIM
+
+    def _apply(self, t):
+        """K_tt t on the contact nodes, for t (2, n) given on them (one tangential convolution)."""
+        fx, fy = self.full
+        fx[self.idx] = t[0]
+        fy[self.idx] = t[1]
+        shape = self.top.shape
+        ux, uy = self.top.shear_displacement(fx.reshape(shape), fy.reshape(shape))
+        fx[self.idx] = 0.0
+        fy[self.idx] = 0.0
+        return self.xp.stack([ux.ravel()[self.idx], uy.ravel()[self.idx]])
+
+    def slip_scale(self) -> float:
+        """max |K_tt (mu p e_x)| (m): the displacement scale of full slip."""
+        if self.n == 0:
+            return 1.0
+        t = self.xp.zeros((2, self.n))
+        t[0] = self.bound
+        u = self._apply(t)
+        return max(float(self.xp.abs(u).max()), 1e-300)
+
+    def finish_frictionless(self):
+        self.q[...] = 0.0
+        self.stick = self.xp.zeros(self.n, dtype=bool)
+
+    # ------------------------------------------------------------------ projection
+    def _project_force(self, z):
+        """P_C(z): the discs intersected with sum q = target.  q_i = P_i(z_i + lam), with the
+        2-D multiplier lam found by Newton steps on the (monotone) force balance."""
+        xp, b = self.xp, self.bound
+        F = self.target
+        lam = self.lam.copy()
+        fscale = float(b.sum()) + float(np.abs(F).max()) + 1e-300
+
+        def evaluate(lam):
+            wx, wy = z[0] + lam[0], z[1] + lam[1]
+            mag = xp.sqrt(wx * wx + wy * wy)
+            out = mag > b
+            f = xp.where(out, b / xp.where(mag > 0, mag, 1.0), 1.0)
+            qx, qy = wx * f, wy * f
+            res = np.array([float(qx.sum()) - F[0], float(qy.sum()) - F[1]])
+            return qx, qy, mag, out, f, res
+
+        qx, qy, mag, out, f, res = evaluate(lam)
+        for _ in range(60):
+            nr = float(np.hypot(*res))
+            if nr <= 1e-13 * fscale:
+                break
+            # Jacobian: I on interior nodes, (b/|w|)(I - e e^T) on rim nodes.
+            n_in = float((~out).sum())
+            ex = xp.where(out, (z[0] + lam[0]) / xp.where(mag > 0, mag, 1.0), 0.0)
+            ey = xp.where(out, (z[1] + lam[1]) / xp.where(mag > 0, mag, 1.0), 0.0)
+            fo = xp.where(out, f, 0.0)
+            jxx = n_in + float((fo * (1 - ex * ex)).sum())
+            jyy = n_in + float((fo * (1 - ey * ey)).sum())
+            jxy = -float((fo * ex * ey).sum())
+            J = np.array([[jxx, jxy], [jxy, jyy]])
+            J += 1e-12 * (jxx + jyy + 1.0) * np.eye(2)
+            try:
+                step = np.linalg.solve(J, res)
+            except np.linalg.LinAlgError:
+                step = res / max(jxx + jyy, 1.0)
+            a = 1.0
+            for _ in range(40):
+                cand = lam - a * step
+                c = evaluate(cand)
+                if float(np.hypot(*c[5])) < nr:
+                    break
+                a *= 0.5
+            lam = cand
+            qx, qy, mag, out, f, res = c
+        self.lam = lam
+        return xp.stack([qx, qy])
+
+    # ------------------------------------------------------------------ one iteration
+    def iterate(self):
+        xp, bound = self.xp, self.bound
+        L = self.L
+        grad = self.Ky + self.v0
+        if not self.force_control:
+            grad = grad - xp.asarray(self.delta)[:, None]
+        z = self.y - grad / L
+        if self.force_control:
+            q_new = self._project_force(z)
+        else:
+            q_new = z
+            _project(xp, q_new, bound)
+        Kq_new = self._apply(q_new)
+        self.n_apply += 1
+        dq = q_new - self.q
+        # Adaptive restart (O'Donoghue and Candes 2015): drop the momentum when it points uphill.
+        if _dot(self.y - q_new, dq) > 0.0:
+            self.t_mom = 1.0
+            self.y, self.Ky = q_new.copy(), Kq_new.copy()
+            self.restarts += 1
+        else:
+            t_new = 0.5 * (1.0 + math.sqrt(1.0 + 4.0 * self.t_mom**2))
+            beta = (self.t_mom - 1.0) / t_new
+            self.t_mom = t_new
+            self.y = q_new + beta * dq
+            self.Ky = Kq_new + beta * (Kq_new - self.Kq)
+        self.q, self.Kq = q_new, Kq_new
+        self.stick = self._stick_mask()
+        norm = float(bound.sum()) * 2.0
+        self.change = float(xp.abs(dq).sum()) / norm if norm > 0 else 0.0
+        if self.force_control:
+            self._update_delta()
+        self._complementarity()
+
+    def _update_delta(self):
+        """Rigid shift under force control: the mean of K q + K_tz p - s_ref over the stick nodes
+        (their slip vanishes), or the projection multiplier times L without stick nodes."""
+        stick = self.stick
+        if bool(stick.any()):
+            s_raw = self.Kq + self.v0
+            self.delta = np.array([float(s_raw[0][stick].mean()), float(s_raw[1][stick].mean())])
+        else:
+            self.delta = self.lam * self.L
+
+    def _complementarity(self):
+        """rms over C+ of the violated part of the stick/slip conditions (m)."""
+        xp = self.xp
+        s = self.Kq + self.v0 - xp.asarray(self.delta)[:, None]
+        stick = self.stick
+        viol = xp.zeros(self.n)
+        if bool(stick.any()):
+            viol[stick] = xp.sqrt(s[0, stick] ** 2 + s[1, stick] ** 2)
+        slip = ~stick
+        if bool(slip.any()):
+            qs = self.q[:, slip]
+            b = xp.where(self.bound[slip] > 0, self.bound[slip], 1.0)
+            d = qs / b  # unit direction of the traction
+            ss = s[:, slip]
+            smag = xp.sqrt(ss[0] ** 2 + ss[1] ** 2)
+            # s should equal -|s| d: the residual is |s + |s| d|.
+            viol[slip] = xp.sqrt((ss[0] + smag * d[0]) ** 2 + (ss[1] + smag * d[1]) ** 2)
+        self.complementarity = float(xp.sqrt((viol * viol).mean())) if self.n else 0.0
+
