@@ -1,0 +1,101 @@
+"""Validation of the solvers against analytic references (``tribobem validate``).
+
+Every case solves small, self-contained problems with the library's own operators and solvers
+and compares them with :mod:`tribobem.analytic`.  :func:`run_validation` returns one
+:class:`ValidationRow` per checked quantity; the CLI prints them as a table.
+
+One module per physics, each with a dict ``CASES`` (name -> ``rows(quick)``) and the case
+descriptions in its docstring; this package assembles them into one registry (:data:`CASES`,
+in the order they run):
+
+:mod:`~tribobem.validation.normal`
+    ``hertz``, ``westergaard``, ``bisinusoidal_small_load``, ``bisinusoidal_near_full``,
+    ``force_balance``, ``periodic_vs_free``.
+:mod:`~tribobem.validation.adhesion`
+    ``maugis_dugdale``, ``md_pull_off``, ``guduru``.
+
+Shared pieces (:class:`ValidationRow`, the row arithmetic, the silica/rigid-ball pair) live in
+:mod:`~tribobem.validation.common`.  A new physics is a new module and one line in
+:data:`PHYSICS`.
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Callable, Iterable
+
+from ..errors import InputError
+from .adhesion import (
+    MD_LAMBDAS, GuduruProblem, MaugisDugdaleProblem, guduru_analytic_path, guduru_compare, guduru_extrema,
+    guduru_path, guduru_problem, guduru_rows, maugis_dugdale_problem, maugis_dugdale_rows, md_cells_cohesive,
+    md_pull_off, md_pull_off_rows, md_pull_off_scan,
+)
+from .common import PAIR, SILICA, CaseFunction, ValidationRow, _row, _solve  # noqa: F401 (re-exported)
+
+__all__ = [
+    "CASES", "ValidationRow", "run_validation",
+    "MaugisDugdaleProblem", "maugis_dugdale_problem", "md_cells_cohesive", "md_pull_off_scan", "maugis_dugdale_rows", "md_pull_off_rows",
+    "GuduruProblem", "guduru_problem", "guduru_analytic_path", "guduru_rows", "guduru_compare",
+    "guduru_extrema", "guduru_path", "md_pull_off", "MD_LAMBDAS",
+]
+
+#: The physics modules, in the order their cases run: one line per physics.
+PHYSICS = (
+    "normal",      # hertz, westergaard, bisinusoidal_small_load, bisinusoidal_near_full, force_balance, periodic_vs_free
+    "adhesion",    # maugis_dugdale, md_pull_off, guduru
+)
+
+
+def _assemble() -> dict[str, CaseFunction]:
+    cases: dict[str, CaseFunction] = {}
+    for physics in PHYSICS:
+        for name, fn in import_module(f"{__name__}.{physics}").CASES.items():
+            if name in cases:
+                raise RuntimeError(f"validation case {name!r} is defined twice (validation.{physics})")
+            cases[name] = fn
+    return cases
+
+
+#: name -> case function ``rows(quick) -> list[ValidationRow]``, in the order they run.
+CASE_FUNCTIONS: dict[str, CaseFunction] = _assemble()
+_RUNNERS = CASE_FUNCTIONS  # the name of the single-module version
+
+#: The validation cases, in the order they run.
+CASES = tuple(CASE_FUNCTIONS)
+
+
+def run_validation(quick: bool = True, cases: Iterable[str] | None = None,
+                   progress: Callable[[int, int, str], None] | None = None) -> list[ValidationRow]:
+    """Run validation cases and return their rows.
+
+    Parameters
+    ----------
+    quick : bool
+        Small grids (the whole quick run takes well under a minute on two cores) or the full
+        accuracy bars of the specification (512^2 Hertz, all six Maugis parameters up to a
+        1248^2 grid for lambda = 5, Guduru at 192^2: an hour or more on two cores).
+    cases : iterable of str, optional
+        Names from :data:`CASES`; all by default.
+    progress : callable, optional
+        Called as ``progress(done, total, case)`` after each case.
+
+    Returns
+    -------
+    list of ValidationRow
+
+    Raises
+    ------
+    InputError
+        For an unknown case name.
+    """
+    names = list(CASES) if cases is None else list(cases)
+    unknown = [c for c in names if c not in CASE_FUNCTIONS]
+    if unknown:
+        raise InputError("validate.cases", f"unknown case(s) {', '.join(map(repr, unknown))}; "
+                                           f"choose among {', '.join(CASES)}")
+    rows: list[ValidationRow] = []
+    for k, name in enumerate(names):
+        rows += CASE_FUNCTIONS[name](quick)
+        if progress:
+            progress(k + 1, len(names), name)
+    return rows
