@@ -1,0 +1,162 @@
+"""Normal-tangential coupling of dissimilar bodies: the Panagiotopoulos loop (Paper D Fig. 2).
+
+For dissimilar materials the pressure displaces the surfaces tangentially (K_tz p) and the
+shear displaces them normally (K_zt q).  The loop alternates the two solvers, each warm-started
+from the other's last state, and owns nothing else:
+
+1. the (adhesive) normal problem with the gap h + K_zx q_x + K_zy q_y (the shear-induced
+   normal displacement enters the gap);
+2. the tangential problem at that pressure (with K_tz p in the slip);
+3. until the relative pressure change sum|p - p_old| / sum|p| falls below ``coupling_tol``.
+
+Identical materials (or a zero coupling compliance) make one pass.  The loop never stops
+silently: a non-converged outer loop gives ``converged=False``, the history of the pressure
+change and a :class:`~tribobem.errors.ConvergenceWarning`.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from ..elasticity.operators import ConvolutionOperator
+from ..errors import ConvergenceWarning, InputError
+from ..results import CoupledResult, NormalResult
+from .normal import solve_normal
+from .tangential import solve_tangential, tangential_operator
+
+__all__ = ["solve_coupled"]
+
+
+def solve_coupled(
+    operator: ConvolutionOperator,
+    gap,
+    *,
+    friction_coefficient: float,
+    normal_force: float | None = None,
+    approach: float | None = None,
+    tangential_force=None,
+    tangential_displacement=None,
+    interaction=None,
+    reference=None,
+    initial: CoupledResult | None = None,
+    tol: float = 1e-10,
+    tangential_tol: float = 1e-8,
+    coupling_tol: float = 1e-7,
+    max_iterations: int = 10000,
+    max_coupling: int = 50,
+) -> CoupledResult:
+    """Solve one step of the coupled normal-tangential contact problem.
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        3x3 operator (components ("x", "y", "z")), free boundary or periodic.
+    gap : array_like
+        Initial gap h (m).
+    friction_coefficient : float
+        mu >= 0.
+    normal_force, approach : float
+        Normal load: force (N) or approach (m); exactly one.
+    tangential_force : (float, float), optional
+        (F_x, F_y) on body 2 (N); or ``tangential_displacement`` (delta_x, delta_y) in m.
+        Neither: zero tangential force.
+    interaction : Interaction, optional
+        Stress law outside contact (e.g. Dugdale adhesion).
+    reference : array_like, shape (2, nx, ny), optional
+        Previous step's relative displacement (incremental slip, Paper E Eq. 5); None: total.
+    initial : CoupledResult, optional
+        Warm start (previous step).
+    tol, tangential_tol : float
+        Tolerances of the normal and tangential solvers.
+    coupling_tol : float
+        Tolerance of the outer loop on the relative pressure change.
+    max_iterations : int
+        Per solver call.
+    max_coupling : int
+        Outer iterations.
+
+    Returns
+    -------
+    CoupledResult
+
+    Raises
+    ------
+    GrossSlipError
+        When the tangential force cannot be carried (see :func:`solve_tangential`).
+    """
+    if (normal_force is None) == (approach is None):
+        raise InputError("load", "give exactly one of normal_force or approach")
+    if tangential_force is not None and tangential_displacement is not None:
+        raise InputError("friction", "give tangential_force or tangential_displacement, not both")
+    if tangential_force is None and tangential_displacement is None:
+        tangential_force = (0.0, 0.0)
+    if max_coupling < 1:
+        raise InputError("solver.max_coupling", f"must be >= 1, got {max_coupling!r}")
+    top = tangential_operator(operator)
+    xp = top.xp
+    h = xp.asarray(gap, dtype=float)
+    normal_load = {"force": normal_force} if normal_force is not None else {"approach": approach}
+
+    shear = None
+    uz = None
+    p_init = None
+    if initial is not None:
+        p_init = initial.normal
+        shear = initial.tangential.shear
+        if top.coupled:
+            uz = top.normal_from_shear(xp.asarray(shear[0]), xp.asarray(shear[1]))
+    history: list[float] = []
+    converged = False
+    message = ""
+    normal: NormalResult | None = None
+    tang = None
+    n_outer = max_coupling if top.coupled else 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        last_change = float("inf")
+        for k in range(1, n_outer + 1):
+            h_k = h if uz is None else h + uz
+            # Inexact inner solves while the outer loop is far from converged: the tangential
+            # tolerance follows the last pressure change (the final pass is always solved to
+            # ``tangential_tol``: the loop only stops after a pass at full accuracy).
+            t_tol = tangential_tol if not top.coupled else max(tangential_tol, min(1e-4, 1e-2 * last_change))
+            normal = solve_normal(operator, h_k, interaction=interaction, tol=tol, max_iterations=max_iterations,
+                                  initial_pressure=p_init, **normal_load)
+            tang = solve_tangential(operator, normal.pressure, normal.contact,
+                                    friction_coefficient=friction_coefficient, force=tangential_force,
+                                    displacement=tangential_displacement, reference=reference,
+                                    initial_shear=shear, tol=t_tol, max_iterations=max_iterations)
+            if p_init is not None and isinstance(p_init, NormalResult):
+                p_prev = p_init.pressure
+                change = float(np.abs(normal.pressure - p_prev).sum()) / max(float(np.abs(normal.pressure).sum()), 1e-300)
+            else:
+                change = float("inf") if top.coupled else 0.0
+            history.append(change)
+            p_init, shear = normal, tang.shear
+            if not top.coupled:
+                converged = True
+                message = "uncoupled (identical materials): one pass"
+                break
+            last_change = change
+            if change < coupling_tol and k > 1 and t_tol <= tangential_tol:
+                converged = True
+                message = f"coupling converged in {k} iterations"
+                break
+            uz = top.normal_from_shear(xp.asarray(tang.shear[0]), xp.asarray(tang.shear[1]))
+        else:
+            message = (f"coupling loop not converged after {max_coupling} iterations (pressure change "
+                       f"{history[-1]:.3e}, tolerance {coupling_tol:.1e})")
+    ok = converged and normal.converged and tang.converged
+    if not ok:
+        parts = [message] if not converged else []
+        if not normal.converged:
+            parts.append(f"normal solver: {normal.message}")
+        if not tang.converged:
+            parts.append(f"tangential solver: {tang.message}")
+        message = "; ".join(parts)
+        warnings.warn(message, ConvergenceWarning, stacklevel=2)
+    return CoupledResult(normal=normal, tangential=tang, coupling_iterations=len(history),
+                         coupling_history=np.asarray(history), converged=ok, message=message)
