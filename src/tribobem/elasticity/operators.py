@@ -8,18 +8,24 @@ spectra:
   zero-padded to that size, so the cyclic convolution equals the linear one on the nx x ny
   domain (no periodic images).  For isolated contacts and non-periodic measured scans.
 * :func:`periodic_operator` -- one cell of a periodic surface.  Default ``kernel="spectral"``:
-  the continuous half-space kernel 2/(E* |q|) sampled at the DFT wavevectors (what Tamaas
-  uses).  ``kernel="influence"``: the DFT of the *periodised* Love influence coefficients,
-  computed exactly in Fourier space by Poisson summation over aliases,
-  K_d(q) = sum_n 2/(E*|q_n|) sinc(q_n,x dx/2) sinc(q_n,y dy/2), q_n = q + 2 pi n/d,
-  truncated at |n_x|, |n_y| <= ``n_alias``.  Both agree at wavelengths >> dx and differ near
-  the Nyquist wavelength (tested).  The q = 0 mode is set to 0 in both: in a periodic system
-  the mean displacement is arbitrary and is carried by the rigid approach instead.
+  the continuous Boussinesq-Cerruti half-space kernels sampled at the DFT wavevectors (for the
+  normal block 2/(E* |q|), what Tamaas uses; the full 3x3 set is listed in
+  :func:`periodic_operator`).  ``kernel="influence"``: the DFT of the *periodised* Love
+  influence coefficients, computed exactly in Fourier space by Poisson summation over
+  aliases, K_d(q) = sum_n K(q_n) sinc(q_n,x dx/2) sinc(q_n,y dy/2), q_n = q + 2 pi n/d,
+  truncated at |n_x|, |n_y| <= ``n_alias`` (for the normal block K = 2/(E*|q|)).  Both agree
+  at wavelengths >> dx and differ near the Nyquist wavelength (tested).  The q = 0 mode of
+  every block is set to 0 in both: in a periodic system the mean displacement is arbitrary
+  and is carried by the rigid approach (and tangential shifts) instead.
 
-Operators are shaped for several traction components (``components=("x", "y", "z")`` for the
-coupled normal-tangential problem of dissimilar bodies).  Callers that need only the normal
-part use :meth:`ConvolutionOperator.block` (``op.normal``), which is what the normal solvers
-take; the coupled 3x3 operator therefore plugs in without changing them.
+Both operators take several traction components (``components=("x", "y", "z")`` for the
+coupled normal-tangential problem of dissimilar bodies; component keys ``out + in``, e.g.
+``"zx"`` is u_z from q_x).  The normal and in-plane blocks of the two bodies add, the
+normal-tangential coupling blocks subtract (body 1 minus body 2).  The periodic coupling
+blocks are purely imaginary (odd kernels), so their spectra are complex.  Units: tractions
+in Pa, displacements in m.  Callers that need only the normal part use
+:meth:`ConvolutionOperator.block` (``op.normal``), which is what the normal solvers take; the
+coupled 3x3 operator therefore plugs in without changing them.
 """
 
 from __future__ import annotations
@@ -212,65 +218,166 @@ def _wavevectors(grid: Grid):
     return qx, qy
 
 
+def _body_constants(pair: ContactPair) -> dict:
+    """Material factors of the two-body Fourier kernels (1/Pa), see :func:`periodic_operator`.
+
+    ``n``: sum (1 - nu_i)/G_i = 2/E*; ``t``: sum 1/G_i; ``nu``: sum nu_i/G_i; ``c``: the
+    coupling (1 - 2 nu_1)/(2 G_1) - (1 - 2 nu_2)/(2 G_2) = 2 pi C_c.  Rigid bodies give 0.
+    """
+    elastic = [(m, sign) for m, sign in ((pair.body1, 1.0), (pair.body2, -1.0)) if not m.is_rigid]
+    return {
+        "n": 2.0 / pair.effective_modulus,
+        "t": sum(1.0 / m.shear_modulus for m, _ in elastic),
+        "nu": sum(m.nu / m.shear_modulus for m, _ in elastic),
+        "c": sum(sign * (1.0 - 2.0 * m.nu) / (2.0 * m.shear_modulus) for m, sign in elastic),
+    }
+
+
+#: Wavevector sums each block needs: S1 = 1/q, Sxx = qx^2/q^3, Syy = qy^2/q^3,
+#: Sxy = qx qy/q^3, Sx = qx/q^2, Sy = qy/q^2 (times the cell sincs for kernel="influence").
+_BLOCK_SUMS = {"zz": ("S1",), "xx": ("S1", "Sxx"), "yy": ("S1", "Syy"), "xy": ("Sxy",), "yx": ("Sxy",),
+               "zx": ("Sx",), "xz": ("Sx",), "zy": ("Sy",), "yz": ("Sy",)}
+
+
+def _shape_sums(Qx, Qy, weight, names, acc) -> None:
+    """Add ``weight`` times the wavevector functions ``names`` at (Qx, Qy) to ``acc``.
+
+    q = 0 can only occur at index [0, 0] (the unaliased zero mode); its value is arbitrary
+    here and is set to 0 by the caller.
+    """
+    Q2 = Qx * Qx + Qy * Qy
+    if Q2[0, 0] == 0.0:
+        Q2[0, 0] = 1.0
+    if any(n in names for n in ("S1", "Sxx", "Syy", "Sxy")):
+        w1 = weight / np.sqrt(Q2)                           # weight / q
+        if "S1" in names:
+            acc["S1"] += w1
+        if any(n in names for n in ("Sxx", "Syy", "Sxy")):
+            w3 = w1 / Q2                                    # weight / q^3
+            if "Sxx" in names:
+                acc["Sxx"] += w3 * (Qx * Qx)
+            if "Syy" in names:
+                acc["Syy"] += w3 * (Qy * Qy)
+            if "Sxy" in names:
+                acc["Sxy"] += w3 * (Qx * Qy)
+    if "Sx" in names or "Sy" in names:
+        w2 = weight / Q2                                    # weight / q^2
+        if "Sx" in names:
+            acc["Sx"] += w2 * Qx
+        if "Sy" in names:
+            acc["Sy"] += w2 * Qy
+
+
 @lru_cache(maxsize=8)
-def _periodic_cached(grid: Grid, pair: ContactPair, kernel: str, n_alias: int, backend_name: str):
+def _periodic_cached(grid: Grid, pair: ContactPair, components: tuple, kernel: str, n_alias: int, backend_name: str):
     be = get_backend(backend_name)
-    E = pair.effective_modulus
-    qx, qy = _wavevectors(grid)
-    if kernel == "spectral":
-        q = np.hypot(qx, qy)
-        with np.errstate(divide="ignore"):
-            spec = 2.0 / (E * q)
-        spec[0, 0] = 0.0
-    elif kernel == "influence":
-        spec = np.zeros(np.broadcast_shapes(qx.shape, qy.shape))
-        gx, gy = 2.0 * np.pi / grid.dx, 2.0 * np.pi / grid.dy
-        for mx in range(-n_alias, n_alias + 1):
-            Qx = qx + mx * gx
-            sx = np.sinc(Qx * grid.dx / (2.0 * np.pi))  # np.sinc(t) = sin(pi t)/(pi t)
-            for my in range(-n_alias, n_alias + 1):
-                Qy = qy + my * gy
-                sy = np.sinc(Qy * grid.dy / (2.0 * np.pi))
-                Q = np.hypot(Qx, Qy)
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    term = np.where(Q > 0, 2.0 / (E * Q), 0.0) * sx * sy
-                spec += term
-        spec[0, 0] = 0.0
-    else:
+    if kernel not in ("spectral", "influence"):
         from ..errors import InputError
 
         raise InputError("solver.kernel", f"must be 'spectral' or 'influence', got {kernel!r}")
-    return {"zz": be.asarray(np.ascontiguousarray(spec))}
+    c = _body_constants(pair)
+    # blocks that are nonzero for these materials (the coupling vanishes for identical bodies)
+    keys = [o + i for o in components for i in components]
+    keys = [k for k in keys if not (k in ("zx", "xz", "zy", "yz") and c["c"] == 0.0)
+            and not (k in ("xy", "yx") and c["nu"] == 0.0)]
+    names = sorted({s for k in keys for s in _BLOCK_SUMS[k]})
+    qx, qy = _wavevectors(grid)
+    shape = np.broadcast_shapes(qx.shape, qy.shape)
+    acc = {s: np.zeros(shape) for s in names}
+    if kernel == "spectral":
+        _shape_sums(qx, qy, 1.0, names, acc)
+    else:
+        # Poisson summation: DFT of the periodised piecewise-constant coefficients
+        gx, gy = 2.0 * np.pi / grid.dx, 2.0 * np.pi / grid.dy
+        Qys = [qy + my * gy for my in range(-n_alias, n_alias + 1)]
+        sys_ = [np.sinc(Qy * grid.dy / (2.0 * np.pi)) for Qy in Qys]  # np.sinc(t) = sin(pi t)/(pi t)
+        for mx in range(-n_alias, n_alias + 1):
+            Qx = qx + mx * gx
+            sx = np.sinc(Qx * grid.dx / (2.0 * np.pi))
+            for Qy, sy in zip(Qys, sys_):
+                _shape_sums(Qx, Qy, sx * sy, names, acc)
+    # the kernels odd in qx (qy) have no Nyquist term: the odd periodic kernel sums to 0 there
+    nyq_x = grid.nx // 2 if grid.nx % 2 == 0 else None
+    nyq_y = grid.ny // 2 if grid.ny % 2 == 0 else None
+    for s in names:
+        if nyq_x is not None and s in ("Sxy", "Sx"):
+            acc[s][nyq_x, :] = 0.0
+        if nyq_y is not None and s in ("Sxy", "Sy"):
+            acc[s][:, nyq_y] = 0.0
+        acc[s][0, 0] = 0.0  # q = 0: the mean displacement is carried by the rigid shifts
+    build = {
+        "zz": lambda: c["n"] * acc["S1"],
+        "xx": lambda: c["t"] * acc["S1"] - c["nu"] * acc["Sxx"],
+        "yy": lambda: c["t"] * acc["S1"] - c["nu"] * acc["Syy"],
+        "xy": lambda: -c["nu"] * acc["Sxy"],
+        "zx": lambda: -1j * c["c"] * acc["Sx"],
+        "xz": lambda: 1j * c["c"] * acc["Sx"],
+        "zy": lambda: -1j * c["c"] * acc["Sy"],
+        "yz": lambda: 1j * c["c"] * acc["Sy"],
+    }
+    spectra = {}
+    for k in keys:
+        if k == "yx" and "xy" in spectra:
+            spectra[k] = spectra["xy"]  # the same (real, symmetric) kernel
+            continue
+        spectra[k] = be.asarray(np.ascontiguousarray(build["xy" if k == "yx" else k]()))
+    return spectra
 
 
 def periodic_operator(grid: Grid, pair: ContactPair, components=("z",), kernel: str = "spectral",
                       n_alias: int = 8, backend: str | Backend = "numpy") -> ConvolutionOperator:
-    """Operator of one periodic cell (see module docstring for ``kernel``).
+    """Operator of one periodic cell: tractions (Pa) -> displacements (m).
+
+    With the FFT convention of NumPy (forward transform ``sum_x f(x) exp(-i q.x)``) and
+    ``q = (qx, qy)`` (rad/m), ``q = |q|``, one half-space (G, nu) has the Fourier kernels
+    (m/Pa; rfft2(u) = K(q) rfft2(t), u in m, t in Pa)::
+
+        zz = (1 - nu)/(G q)                   xx = [1/q - nu qx^2/q^3]/G
+        yy = [1/q - nu qy^2/q^3]/G            xy = yx = -nu qx qy/(G q^3)
+        zx = -xz = -i (1 - 2 nu) qx/(2 G q^2) zy = -yz = -i (1 - 2 nu) qy/(2 G q^2)
+
+    (the transforms of the point kernels of SPEC 2).  The two bodies' normal and in-plane
+    kernels add (zz = 2/(E* q)); the coupling blocks subtract, body 1 minus body 2, and vanish
+    for identical materials (they are then left out of ``spectra``, as xy/yx are when both
+    nu are 0).  A rigid body adds 0.
+    The q = 0 mode of every block is 0 (the mean displacement is carried by the rigid
+    approach / shifts).  Blocks odd in qx (xy, zx, xz) or qy (xy, zy, yz) are 0 on the
+    Nyquist row / column of an even grid, as the DFT of any odd periodic kernel is.
 
     Parameters
     ----------
     grid : Grid
-        The periodic cell.
+        The periodic cell (a non-periodic grid is taken as periodic).
     pair : ContactPair
-        Materials.
+        Materials of the two bodies.
     components : tuple of str
-        Only ("z",) is available for the periodic operator so far.
+        ("z",) for normal contact (default); ("x", "y", "z") (or a subset) for the coupled
+        normal-tangential problem.
     kernel : {"spectral", "influence"}
-        Continuous kernel 2/(E*|q|), or the exact DFT of periodised influence coefficients.
+        "spectral": the continuous kernels above sampled at the DFT wavevectors.
+        "influence": the exact DFT of the periodised piecewise-constant (Love) influence
+        coefficients, by Poisson summation: each continuous kernel times
+        sinc(Qx dx/2) sinc(Qy dy/2), summed over aliases Q = q + 2 pi (mx/dx, my/dy),
+        |mx|, |my| <= ``n_alias``.
     n_alias : int
         Alias images per direction for ``kernel="influence"``.
     backend : str or Backend
+        "numpy" or "cupy"; the spectra live there.
+
+    Returns
+    -------
+    ConvolutionOperator
+        Spectra (rfft2 layout, shape (nx, ny//2 + 1)) are cached per (grid, pair,
+        components, kernel, n_alias, backend); the coupling blocks are complex (purely
+        imaginary), the others real.
     """
     be = backend if isinstance(backend, Backend) else get_backend(backend)
     components = tuple(components)
     _check_components(components)
-    if components != ("z",):
-        raise NotImplementedError("the periodic operator supports the normal component only; "
-                                  "use free_boundary_operator for coupled normal-tangential problems")
     if not grid.periodic:
         grid = Grid(grid.nx, grid.ny, grid.lx, grid.ly, True)
-    grid.check_memory()  # before any large allocation
-    spectra = _periodic_cached(grid, pair, kernel, n_alias, be.name)
+    grid.check_memory(n_components=len(components))  # before any large allocation
+    spectra = _periodic_cached(grid, pair, components, kernel, n_alias, be.name)
     return ConvolutionOperator(grid, pair, components, spectra, grid.shape, be, f"periodic ({kernel})")
 
 
