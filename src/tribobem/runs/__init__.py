@@ -52,7 +52,8 @@ def _runner(module: str) -> Runner:
 RUNNERS: dict[str, Runner] = {
     "normal": _runner("normal"),
     "pulloff": _runner("pulloff"),
-    # "partial_slip": _runner("partial_slip"),   # <- a new kind: its module runs/<kind>.py and one line here
+    "partial_slip": _runner("partial_slip"),
+    # a new kind: its module runs/<kind>.py and one line here
 }
 
 

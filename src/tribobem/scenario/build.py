@@ -318,11 +318,13 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
         raise InputError("gap", "the initial gap contains NaN or infinite values")
     gap = gap - float(gap.min())
 
+    # Friction needs the coupled 3x3 operator (tangential and normal-tangential blocks).
+    components = ("x", "y", "z") if (sc.friction is not None and sc.friction.coefficient is not None) else ("z",)
     try:
         if grid.periodic:
-            op = make_operator(grid, pair, backend=sc.solver.backend, kernel=sc.solver.kernel)
+            op = make_operator(grid, pair, components, backend=sc.solver.backend, kernel=sc.solver.kernel)
         else:
-            op = make_operator(grid, pair, backend=sc.solver.backend)
+            op = make_operator(grid, pair, components, backend=sc.solver.backend)
     except (ImportError, ModuleNotFoundError) as exc:
         raise InputError("solver.backend", f"backend {sc.solver.backend!r} is not available: {exc}") from None
 

@@ -1,0 +1,116 @@
+"""Run kind ``partial_slip``: tangential contact of dissimilar bodies with Coulomb friction (Paper D).
+
+Two paths (SPEC 9.1):
+
+* ``load.force`` with ``friction.tangential_forces`` (or ``tangential_displacements``): a
+  tangential ramp at a fixed normal load, each step solved by the normal-tangential coupling
+  loop; a ramp that reaches gross slip ends there (a result, not an error) and the gross-slip
+  onset is refined by bisection to 1e-3 x mu F0+;
+* ``load.forces`` (with ``slip = "incremental"``): a normal-load path with friction, the
+  tangential state carried step to step; tangential forces, if given, are paired with it.
+
+Rows carry the SPEC 9.1 step keys plus ``force_ratio`` (F_t / (mu F0+)), ``stick_ratio`` and
+``stick_radius_ratio`` (sqrt(A_stick / A_contact)); run level: ``friction_coefficient``,
+``static_friction_force``, ``static_friction_ratio``, ``presliding_displacement``,
+``gross_slip`` and the onset bracket.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import InputError
+from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
+from .common import solve_kw
+
+__all__ = ["run"]
+
+#: Bisection of the gross-slip onset: bracket width relative to mu F0+ (SPEC 9.1 / issue).
+ONSET_TOLERANCE = 1e-3
+
+
+def _row(res, branch: str, mu: float, e) -> dict:
+    row = res.scalars()
+    row["branch"] = branch
+    f0p = res.normal.repulsive_force
+    ft = res.tangential.force_x * e[0] + res.tangential.force_y * e[1]
+    row["force_ratio"] = ft / (mu * f0p) if mu > 0 and f0p > 0 else float("nan")
+    row["stick_radius_ratio"] = stick_radius_ratio(res)
+    return row
+
+
+def run(pb, bar) -> dict:
+    """Run a ``partial_slip`` scenario on its built :class:`~tribobem.scenario.build.Problem`."""
+    sc = pb.scenario
+    fr, load = sc.friction, sc.load
+    mu = float(fr.coefficient)
+    kw = solve_kw(sc)
+    solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
+                 "tangential_tol": max(kw["tol"], 1e-8)}
+    theta = math.radians(fr.direction)
+    e = (math.cos(theta), math.sin(theta))
+    out: dict = {"run": {"friction_coefficient": mu, "slip": fr.slip, "direction": fr.direction}}
+    if load.forces is not None:
+        if fr.tangential_displacements is not None:
+            raise InputError("friction.tangential_displacements",
+                             "a normal-load path (load.forces) pairs with tangential_forces only")
+        bar.phase("normal steps", len(load.forces))
+        steps = normal_path(pb.operator, pb.gap, normal_forces=load.forces, friction_coefficient=mu,
+                            tangential_forces=fr.tangential_forces, direction=fr.direction,
+                            interaction=pb.interaction, slip=fr.slip, progress=bar, **solver_kw)
+        rows = [_row(r, "normal_path", mu, e) for r in steps]
+        out.update(rows=rows, results=[r.normal for r in steps], tangential=[r.tangential for r in steps],
+                   labels=[f"normal_path {k}" for k in range(len(steps))], indices=list(range(len(steps))),
+                   curve=None)
+        return out
+
+    forces = fr.tangential_forces
+    displacements = fr.tangential_displacements
+    if forces is None and displacements is None:
+        forces = [0.0]
+    n = len(forces if forces is not None else displacements)
+    bar.phase("tangential steps", n)
+    ramp = tangential_ramp(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, forces=forces,
+                           displacements=displacements, direction=fr.direction, interaction=pb.interaction,
+                           slip=fr.slip, refine_tol=ONSET_TOLERANCE, progress=bar, **solver_kw)
+    steps = list(ramp.steps)
+    rows = [_row(r, "ramp", mu, e) for r in steps]
+    run_level = out["run"]
+    run_level["gross_slip"] = bool(ramp.gross_slip)
+    run_level["ramp_message"] = ramp.message
+    if ramp.gross_slip and ramp.onset_state is not None:
+        run_level["static_friction_force"] = ramp.onset
+        run_level["static_friction_ratio"] = ramp.onset_ratio
+        run_level["presliding_displacement"] = ramp.presliding_displacement
+        run_level["onset_bracket"] = list(ramp.onset_bracket)
+        run_level["onset_refinement_steps"] = ramp.refine_steps
+        run_level["onset_repulsive_force"] = ramp.onset_state.normal.repulsive_force
+        run_level["onset_adhesive_force"] = ramp.onset_state.normal.adhesive_force
+    elif ramp.gross_slip:
+        run_level["static_friction_force"] = None
+        run_level["static_friction_ratio"] = None
+        run_level["presliding_displacement"] = None
+    if math.isfinite(ramp.max_force):
+        run_level["max_tangential_force"] = ramp.max_force
+    if ramp.zero_state is not None:
+        z = ramp.zero_state
+        run_level["zero_force_stick_ratio"] = z.tangential.stick_ratio
+        run_level["repulsive_force"] = z.normal.repulsive_force
+        run_level["adhesive_force"] = z.normal.adhesive_force
+    results = [r.normal for r in steps]
+    tangential = [r.tangential for r in steps]
+    labels = [f"ramp {k}" for k in range(len(steps))]
+    indices = list(range(len(steps)))
+    if ramp.onset_state is not None:
+        # The last state with stick at the refined onset: the map a user wants to see.
+        results.append(ramp.onset_state.normal)
+        tangential.append(ramp.onset_state.tangential)
+        labels.append("onset")
+        indices.append(-1)
+    if not steps:
+        raise InputError("friction.tangential_forces",
+                         f"no step of the ramp has an equilibrium: {ramp.message}")
+    out.update(rows=rows, results=results, tangential=tangential, labels=labels, indices=indices, curve=None)
+    return out

@@ -1,0 +1,284 @@
+"""Load paths of the partial-slip kind: tangential ramps to gross slip, normal loading with friction.
+
+* :func:`tangential_ramp`: a tangential force (or displacement) ramp at a fixed normal load,
+  each step solved by the coupling loop (Paper D).  The ramp ends at gross slip (no stick node
+  left, or a force beyond mu F0+): that is a result, not an error.  The gross-slip onset is
+  then located by bisection between the last step with stick and the first without, to
+  ``refine_tol`` x mu F0+ (not the first listed step whose stick area is zero).
+* :func:`normal_path`: a normal-load path with friction and the incremental slip criterion
+  (Paper E Eq. 5): the relative displacement of each step is the reference of the next, so
+  the history of the tangential state is carried (Spence's self-similar stick zone under
+  monotonic loading of dissimilar bodies).
+
+Slip modes: ``"total"`` measures the slip from the undeformed state (each step is the one-shot
+problem of Paper D, warm-started only for speed); ``"incremental"`` carries the history.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from ..errors import ConvergenceWarning, InputError
+from ..results import CoupledResult
+from .coupling import solve_coupled
+from .tangential import GrossSlipError
+
+__all__ = ["SlipRamp", "tangential_ramp", "normal_path", "stick_radius_ratio"]
+
+
+def _unit(direction_deg: float) -> np.ndarray:
+    if not math.isfinite(direction_deg):
+        raise InputError("friction.direction", f"must be a finite angle in degrees, got {direction_deg!r}")
+    t = math.radians(direction_deg)
+    return np.array([math.cos(t), math.sin(t)])
+
+
+def stick_radius_ratio(res: CoupledResult) -> float:
+    """Equivalent stick radius over equivalent contact radius, sqrt(A_stick / A_contact)."""
+    return math.sqrt(max(res.tangential.stick_ratio, 0.0))
+
+
+@dataclass
+class SlipRamp:
+    """A tangential ramp at a fixed normal load.
+
+    Attributes
+    ----------
+    steps : list of CoupledResult
+        One per solved value of the ramp (up to and including the first gross-slip step).
+    values : list of float
+        The ramp values (N for force control, m for displacement control) of ``steps``.
+    control : {"force", "displacement"}
+    direction : ndarray
+        Unit vector of the ramp.
+    gross_slip : bool
+        The ramp reached gross slip.
+    onset : float
+        Tangential force (N) at the gross-slip onset (NaN when not reached), the midpoint of the
+        final bisection bracket.
+    onset_bracket : tuple of float
+        (last value with stick, first value without) after refinement.
+    onset_ratio : float
+        onset / (mu F0+) with F0+ of the state at the onset.
+    presliding_displacement : float
+        delta along the ramp at the onset (last state with stick) minus delta at F_t = 0 (m).
+    max_force : float
+        With a force beyond what the contact carries: the largest force with an equilibrium.
+    message : str
+    """
+
+    steps: list
+    values: list
+    control: str
+    direction: np.ndarray
+    gross_slip: bool = False
+    onset: float = float("nan")
+    onset_bracket: tuple = (float("nan"), float("nan"))
+    onset_ratio: float = float("nan")
+    presliding_displacement: float = float("nan")
+    onset_state: CoupledResult | None = None
+    zero_state: CoupledResult | None = None
+    max_force: float = float("nan")
+    message: str = ""
+    refine_steps: int = 0
+    extra: dict = field(default_factory=dict)
+
+
+def _along(res: CoupledResult, e: np.ndarray, what: str) -> float:
+    t = res.tangential
+    if what == "force":
+        return float(t.force_x * e[0] + t.force_y * e[1])
+    return float(t.displacement_x * e[0] + t.displacement_y * e[1])
+
+
+def tangential_ramp(
+    operator,
+    gap,
+    *,
+    normal_force: float,
+    friction_coefficient: float,
+    forces: Sequence[float] | None = None,
+    displacements: Sequence[float] | None = None,
+    direction: float = 0.0,
+    interaction=None,
+    slip: str = "total",
+    refine_tol: float = 1e-3,
+    max_refine: int = 40,
+    progress: Callable[[int, int], None] | None = None,
+    **solver_kw,
+) -> SlipRamp:
+    """Ramp the tangential load at a fixed normal force until gross slip.
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        3x3 operator.
+    gap : array_like
+        Initial gap (m).
+    normal_force : float
+        Normal force held during the ramp (N).
+    friction_coefficient : float
+    forces, displacements : sequence of float
+        Ramp values along ``direction``: forces (N) or rigid displacements (m); one of them.
+    direction : float
+        Degrees from the x axis.
+    interaction : Interaction, optional
+    slip : {"total", "incremental"}
+    refine_tol : float
+        Bisection of the gross-slip onset until the bracket is below refine_tol x mu F0+ (force
+        control) or refine_tol x the last step's displacement (displacement control).
+    max_refine : int
+    progress : callable, optional
+        ``progress(done, total)``.
+    **solver_kw
+        Passed to :func:`~tribobem.solvers.coupling.solve_coupled` (tol, tangential_tol, ...).
+
+    Returns
+    -------
+    SlipRamp
+    """
+    if (forces is None) == (displacements is None):
+        raise InputError("friction", "give exactly one of tangential_forces or tangential_displacements")
+    if slip not in ("total", "incremental"):
+        raise InputError("friction.slip", f"must be 'total' or 'incremental', got {slip!r}")
+    if not (isinstance(refine_tol, float) and 0 < refine_tol < 1):
+        raise InputError("refine_tol", f"must be in (0, 1), got {refine_tol!r}")
+    e = _unit(direction)
+    control = "force" if forces is not None else "displacement"
+    values = [float(v) for v in (forces if forces is not None else displacements)]
+    mu = friction_coefficient
+    ramp = SlipRamp(steps=[], values=[], control=control, direction=e)
+
+    def solve(value, prev, reference):
+        load = {"tangential_force": tuple(value * e)} if control == "force" else {"tangential_displacement": tuple(value * e)}
+        return solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
+                             interaction=interaction, reference=reference, initial=prev, **load, **solver_kw)
+
+    def ref_of(res):
+        return res.tangential.relative_displacement if (slip == "incremental" and res is not None) else None
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        # The F_t = 0 state: the origin of the pre-sliding displacement.
+        zero = None
+        if not values or values[0] != 0.0:
+            zero = solve(0.0, None, None)
+        prev = None
+        last_stick = None
+        failed_value = None
+        total = len(values)
+        for k, v in enumerate(values):
+            try:
+                res = solve(v, prev, ref_of(prev))
+            except GrossSlipError as exc:
+                ramp.max_force = exc.max_force
+                failed_value = v
+                ramp.gross_slip = True
+                ramp.message = f"gross slip at step {k}: {exc}"
+                break
+            ramp.steps.append(res)
+            ramp.values.append(v)
+            if progress:
+                progress(k + 1, total)
+            if res.tangential.gross_slip and mu > 0:
+                ramp.gross_slip = True
+                failed_value = v
+                ramp.message = f"gross slip at step {k} ({control} {v:.6g}): no stick node left"
+                break
+            last_stick = (v, res, prev)
+            prev = res
+        ramp.zero_state = zero if zero is not None else (ramp.steps[0] if ramp.steps else None)
+        if ramp.gross_slip and last_stick is not None and failed_value is not None:
+            lo, lo_res, lo_prev = last_stick
+            hi = failed_value
+            n_ref = 0
+            scale = (mu * lo_res.normal.repulsive_force) if control == "force" else max(abs(hi), 1e-300)
+            while abs(hi - lo) > refine_tol * scale and n_ref < max_refine:
+                mid = 0.5 * (lo + hi)
+                base = lo_res if slip == "total" else lo_prev
+                try:
+                    res = solve(mid, lo_res, ref_of(base) if slip == "incremental" else None)
+                    is_gross = res.tangential.gross_slip
+                except GrossSlipError:
+                    is_gross, res = True, None
+                n_ref += 1
+                if is_gross:
+                    hi = mid
+                else:
+                    lo, lo_res = mid, res
+                    if control == "force":
+                        scale = mu * lo_res.normal.repulsive_force
+            ramp.refine_steps = n_ref
+            ramp.onset_bracket = (lo, hi)
+            ramp.onset_state = lo_res
+            f_lo = _along(lo_res, e, "force")
+            if control == "force":
+                ramp.onset = 0.5 * (lo + hi)
+            else:
+                ramp.onset = f_lo
+            ramp.onset_ratio = ramp.onset / (mu * lo_res.normal.repulsive_force) if mu > 0 else float("nan")
+            if ramp.zero_state is not None:
+                ramp.presliding_displacement = _along(lo_res, e, "displacement") - _along(ramp.zero_state, e, "displacement")
+            ramp.message += f"; onset located to {abs(hi - lo):.3g} after {n_ref} bisection steps"
+        elif ramp.gross_slip and failed_value is not None and not ramp.steps:
+            ramp.message += " (the first step already slips grossly: no onset bracket)"
+    return ramp
+
+
+def normal_path(
+    operator,
+    gap,
+    *,
+    normal_forces: Sequence[float],
+    friction_coefficient: float,
+    tangential_forces: Sequence[float] | None = None,
+    direction: float = 0.0,
+    interaction=None,
+    slip: str = "incremental",
+    progress: Callable[[int, int], None] | None = None,
+    **solver_kw,
+) -> list:
+    """A normal-load path with friction, the tangential state carried step to step.
+
+    Parameters
+    ----------
+    normal_forces : sequence of float
+        Normal force of each step (N).
+    tangential_forces : sequence of float, optional
+        Tangential force along ``direction`` of each step (N), paired with ``normal_forces``;
+        default 0.
+    slip : {"incremental", "total"}
+        "incremental" (default) carries the history (the reference of a step is the previous
+        step's relative displacement; a node entering the contact takes it as well).
+
+    Returns
+    -------
+    list of CoupledResult
+        One per step.  A step with a force beyond mu F0+ raises GrossSlipError.
+    """
+    e = _unit(direction)
+    forces = [float(f) for f in normal_forces]
+    if tangential_forces is None:
+        tangential_forces = [0.0] * len(forces)
+    if len(tangential_forces) != len(forces):
+        raise InputError("friction.tangential_forces", f"must pair with load.forces: {len(tangential_forces)} "
+                                                       f"values for {len(forces)} normal forces")
+    out: list = []
+    prev = None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        for k, (fn, ft) in enumerate(zip(forces, tangential_forces)):
+            ref = prev.tangential.relative_displacement if (prev is not None and slip == "incremental") else None
+            res = solve_coupled(operator, gap, friction_coefficient=friction_coefficient, normal_force=fn,
+                                tangential_force=tuple(float(ft) * e), interaction=interaction, reference=ref,
+                                initial=prev, **solver_kw)
+            out.append(res)
+            prev = res
+            if progress:
+                progress(k + 1, len(forces))
+    return out
