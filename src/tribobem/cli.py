@@ -77,6 +77,11 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
     table = Table(title=f"tribobem {summary.get('kind')} run", show_lines=False, pad_edge=False)
     cols = (("normal_force", "F", "force"), ("approach", "\u03b4", "length"), ("contact_area", "A_c", "area"),
             ("adhesive_area", "A_adh", "area"), ("max_pressure", "p_max", "pressure"))
+    if any("tangential_force_x" in s for s in steps):
+        # Tangential kinds: the friction columns replace the approach and the cohesive area.
+        cols = (("normal_force", "F", "force"), ("tangential_force_x", "F_x", "force"),
+                ("displacement_x", "\u03b4_x", "length"), ("contact_area", "A_c", "area"),
+                ("stick_ratio", "A_st/A_c", "dimensionless"), ("max_pressure", "p_max", "pressure"))
     scales = {}
     for key, label, dim in cols:
         vals = [s.get(key) for s in steps if s.get(key) is not None]
@@ -84,7 +89,10 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
     table.add_column("#", justify="right")
     table.add_column("branch", justify="left")
     for key, label, dim in cols:
-        table.add_column(f"{label} ({scales[key][1]})", justify="right")
+        table.add_column(f"{label} ({scales[key][1]})" if scales[key][1] else label, justify="right")
+    # Round-off (e.g. a tangential force of 1e-22 N at F_x = 0) prints as 0.
+    tiny = {key: 1e-9 * max((abs(s.get(key)) for s in steps if isinstance(s.get(key), (int, float))), default=0.0)
+            for key, _, _ in cols}
     table.add_column("iter", justify="right")
     table.add_column("ok", justify="center")
     show = steps if len(steps) <= 30 else steps[:15] + steps[-15:]
@@ -92,11 +100,21 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         cells = []
         for key, _, _ in cols:
             v = s.get(key)
+            if isinstance(v, (int, float)) and abs(v) <= tiny[key]:
+                v = 0.0
             cells.append("-" if v is None else f"{v / scales[key][0]:.4g}")
         branch = {"loading": "load", "unloading": "unload"}.get(s.get("branch"), str(s.get("branch", "")))
         table.add_row(str(s.get("index", "")), branch, *cells, str(s.get("iterations", "")),
                       "yes" if s.get("converged") else "[red]NO[/red]")
     console.print(table)
+    if summary.get("friction_coefficient") is not None:
+        mu = summary["friction_coefficient"]
+        if summary.get("static_friction_force") is not None:
+            console.print(f"gross-slip onset (static friction): [bold]{format_quantity(summary['static_friction_force'], 'force', 4)}"
+                          f"[/bold] = {summary['static_friction_ratio']:.4f} \u03bc F0+ (\u03bc = {mu:g}); pre-sliding "
+                          f"displacement {format_quantity(summary.get('presliding_displacement'), 'length', 4)}")
+        elif summary.get("gross_slip") is False:
+            console.print(f"no gross slip along the ramp (\u03bc = {mu:g}); the largest step keeps a stick zone")
     if summary.get("pull_off_force") is not None:
         console.print(f"pull-off force: [bold]{format_quantity(summary['pull_off_force'], 'force', 4)}[/bold] "
                       f"at approach {format_quantity(summary.get('pull_off_approach'), 'length', 4)}")
