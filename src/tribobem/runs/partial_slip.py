@@ -29,6 +29,12 @@ __all__ = ["run"]
 
 #: Bisection of the gross-slip onset: bracket width relative to mu F0+ (SPEC 9.1 / issue).
 ONSET_TOLERANCE = 1e-3
+#: Tangential solver tolerance (traction change and complementarity residual) and coupling-loop
+#: tolerance (relative pressure change).  Measured on the Paper D ramp (96^2): the onset ratio and
+#: the pre-sliding displacement agree to 5 and 6 digits with 1e-8 / 1e-7, in 0.6x the time; on
+#: Cattaneo-Mindlin (256^2) the stick area is exact (vs a 1e-11 reference) from 1e-6 on.
+TANGENTIAL_TOLERANCE = 1e-7
+COUPLING_TOLERANCE = 1e-6
 
 
 def _row(res, branch: str, mu: float, e) -> dict:
@@ -48,7 +54,7 @@ def run(pb, bar) -> dict:
     mu = float(fr.coefficient)
     kw = solve_kw(sc)
     solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
-                 "tangential_tol": max(kw["tol"], 1e-8)}
+                 "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE}
     theta = math.radians(fr.direction)
     e = (math.cos(theta), math.sin(theta))
     out: dict = {"run": {"friction_coefficient": mu, "slip": fr.slip, "direction": fr.direction}}
