@@ -10,9 +10,9 @@ from .grid import Grid
 from .interactions import DugdaleAdhesion
 from .materials import ContactPair, Material, effective_modulus
 from .output import read_fields, read_summary
-from .results import NormalResult
+from .results import CoupledResult, NormalResult, TangentialResult
 from .scenario import RunResult, Scenario, ScenarioError, load_scenario, parse_scenario, run_scenario
-from .solvers import solve_normal
+from .solvers import GrossSlipError, SlipRamp, normal_path, solve_coupled, solve_normal, solve_tangential, tangential_ramp
 from .solvers.paths import LoadCurve, PullOff, approach_curve, force_curve, pull_off
 from .units import to_si
 
@@ -24,12 +24,13 @@ __all__ = [
     # operators and solvers
     "make_operator", "periodic_operator", "free_boundary_operator",
     "solve_normal", "approach_curve", "force_curve", "pull_off",
+    "solve_tangential", "solve_coupled", "tangential_ramp", "normal_path",
     # results
-    "NormalResult", "LoadCurve", "PullOff",
+    "NormalResult", "LoadCurve", "PullOff", "TangentialResult", "CoupledResult", "SlipRamp",
     # scenarios and outputs
     "load_scenario", "parse_scenario", "run_scenario", "Scenario", "RunResult", "read_summary", "read_fields", "to_si",
     # errors
     "TribobemError", "InputError", "TopographyError", "MemoryBudgetError", "ScenarioError",
-    "ConvergenceError", "ConvergenceWarning",
+    "ConvergenceError", "ConvergenceWarning", "GrossSlipError",
     "__version__",
 ]
