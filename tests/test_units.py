@@ -70,3 +70,18 @@ def test_display_units_are_chosen_from_the_data():
     assert format_quantity(1.2e-6, "force") == "1.2 \u00b5N"
     assert format_quantity(3120e-18, "area", 3, ascii_only=True) == "3120 nm^2"
     assert format_quantity(None, "force") == "n/a"
+
+
+# ----------------------------------------------------------------------------- dimension-free parsing
+def test_si_value_and_si_unit_without_an_expected_dimension():
+    from tribobem.units import parse_quantity, si_unit, si_value
+
+    assert si_value("100 um") == 1e-4 and si_value("10 µN") == 1e-5 and si_value("2 Å") == 2e-10
+    assert si_value("30 mJ/m^2") == pytest.approx(0.03)
+    assert si_value(3) == 3 and isinstance(si_value(3), int) and si_value("3") == 3.0
+    for other in (True, None, "abc", [1, 2], {"a": 1}):
+        assert si_value(other) == other
+    assert si_unit("130 GPa") == "kilogram / meter / second ** 2" and si_unit("1 micron") == "meter"
+    assert si_unit("3") == si_unit(3.0) == si_unit("abc") == ""
+    assert parse_quantity("5 µm").to("m").magnitude == pytest.approx(5e-6)
+    assert parse_quantity("not a unit") is None

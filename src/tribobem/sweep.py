@@ -51,6 +51,7 @@ import numpy as np
 
 from .errors import InputError
 from .output.summary import atomic_path
+from .units import parse_quantity, si_unit, si_value
 
 __all__ = [
     "SweepSpec",
@@ -162,66 +163,12 @@ def apply_overrides(base: Mapping, point: Mapping) -> dict:
     return tree
 
 
-def _quantity(text: str):
-    """A pint Quantity parsed with the project's registry (``tribobem.units``), or None."""
-    try:
-        from . import units
-
-        for pattern, repl in getattr(units, "_ALIASES", ()):
-            text = pattern.sub(repl, text)
-        ureg = units.registry()
-    except Exception:  # pragma: no cover - units module missing
-        import pint
-
-        ureg = pint.UnitRegistry()
-    try:
-        q = ureg.Quantity(text)
-        return q if hasattr(q, "dimensionality") else None
-    except Exception:
-        return None
-
-
-def to_si(value):
-    """A number, or a string with units ("30 mJ/m^2", "100 um"), as an SI float.
-
-    Other values (booleans, plain words, tables) come back unchanged.
-    """
-    if isinstance(value, bool) or value is None:
-        return value
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        return float(value)
-    if isinstance(value, str):
-        try:
-            return float(value)
-        except ValueError:
-            pass
-        q = _quantity(value.strip())
-        if q is None:
-            return value
-        try:
-            mag = float(q.to_base_units().magnitude)
-        except Exception:
-            return value
-        return float(f"{mag:.14g}")  # "100 um" -> 1e-4, not 9.999999999999999e-05
-    return value
-
-
-def _si_unit(value) -> str:
-    """SI base unit of a quantity string ('' for a plain number or an unparsable string)."""
-    if not isinstance(value, str):
-        return ""
-    try:
-        float(value)
-        return ""
-    except ValueError:
-        pass
-    q = _quantity(value.strip())
-    try:
-        return str(q.to_base_units().units) if q is not None else ""
-    except Exception:
-        return ""
+# Quantities: one parser for the whole package (tribobem.units).  ``to_si`` here takes no
+# expected dimension: a quantity string becomes its value in SI base units, anything else
+# (numbers aside) comes back unchanged.
+_quantity = parse_quantity
+to_si = si_value
+_si_unit = si_unit
 
 
 # --------------------------------------------------------------------------------------

@@ -18,11 +18,12 @@ from __future__ import annotations
 import math
 import re
 from functools import lru_cache
-from numbers import Real
+from numbers import Integral, Real
 
 from .errors import InputError
 
-__all__ = ["DIMENSIONS", "UnitMismatch", "to_si", "convert", "registry", "display_unit", "format_quantity"]
+__all__ = ["DIMENSIONS", "UnitMismatch", "to_si", "convert", "parse_quantity", "si_value", "si_unit", "registry",
+           "display_unit", "format_quantity"]
 
 #: Known dimensions: name -> (pint dimensionality, SI unit, description used in messages).
 DIMENSIONS: dict[str, tuple[str, str, str]] = {
@@ -121,11 +122,9 @@ def convert(value, dimension: str) -> float:
         return float(text)  # plain number in a string: SI
     except ValueError:
         pass
-    for pattern, repl in _ALIASES:
-        text = pattern.sub(repl, text)
     ureg = registry()
     try:
-        q = ureg.Quantity(text)
+        q = _parse(text)
     except Exception as exc:  # pint raises several types (UndefinedUnitError, DefinitionSyntaxError, ...)
         raise UnitMismatch(f"cannot parse {value!r} as {what}{unit_hint}: {_short(exc)}") from None
     if not hasattr(q, "dimensionality"):
@@ -145,6 +144,74 @@ def convert(value, dimension: str) -> float:
 
 def _short(exc: BaseException) -> str:
     return " ".join(str(exc).split())[:200]
+
+
+def _parse(text: str):
+    """``text`` (aliases replaced) parsed by the shared registry; pint's exceptions pass through."""
+    for pattern, repl in _ALIASES:
+        text = pattern.sub(repl, text)
+    return registry().Quantity(text)
+
+
+# ----------------------------------------------------------------------------- dimension-free parsing
+def parse_quantity(text: str):
+    """A string with a unit as a :class:`pint.Quantity` of the shared registry, or None.
+
+    The spellings :func:`convert` accepts (``µm``, ``micron``, ``Å``) are accepted here too.
+    None when pint cannot parse the string or it is not a quantity.
+    """
+    try:
+        q = _parse(text)
+    except Exception:  # pint raises several types
+        return None
+    return q if hasattr(q, "dimensionality") else None
+
+
+def si_value(value):
+    """A number, or a string with units (``"30 mJ/m^2"``, ``"100 um"``), as an SI float, with no
+    expected dimension (the value in SI base units).
+
+    Integers stay integers; other values (booleans, None, strings that are not quantities,
+    tables) come back unchanged.  Parameter grids (:mod:`tribobem.sweep`) use it to give every
+    swept value a numerical coordinate.
+    """
+    if isinstance(value, bool) or value is None:
+        return value
+    if isinstance(value, Integral):
+        return int(value)
+    if isinstance(value, Real):
+        return float(value)
+    if isinstance(value, str):
+        try:
+            return float(value)
+        except ValueError:
+            pass
+        q = parse_quantity(value.strip())
+        if q is None:
+            return value
+        try:
+            mag = float(q.to_base_units().magnitude)
+        except Exception:
+            return value
+        return float(f"{mag:.14g}")  # "100 um" -> 1e-4, not 9.999999999999999e-05
+    return value
+
+
+def si_unit(value) -> str:
+    """The SI base unit (pint's spelling, e.g. ``"kilogram / meter / second ** 2"``) of a quantity
+    string; ``""`` for anything else (a number, a plain-number string, an unparsable string)."""
+    if not isinstance(value, str):
+        return ""
+    try:
+        float(value)
+        return ""
+    except ValueError:
+        pass
+    q = parse_quantity(value.strip())
+    try:
+        return str(q.to_base_units().units) if q is not None else ""
+    except Exception:
+        return ""
 
 
 # ----------------------------------------------------------------------------- display units
