@@ -116,7 +116,12 @@ def run(pb, bar) -> dict:
         labels.append("onset")
         indices.append(-1)
     if not steps:
-        raise InputError("friction.tangential_forces",
-                         f"no step of the ramp has an equilibrium: {ramp.message}")
+        # Even the first value slides grossly: report it with the F_t = 0 state (the largest
+        # force with an equilibrium is in max_tangential_force), not as an error.
+        if ramp.zero_state is None:
+            raise InputError("friction.tangential_forces", f"no step of the ramp has an equilibrium: {ramp.message}")
+        z = ramp.zero_state
+        rows = [_row(z, "zero_force", mu, e)]
+        results, tangential, labels, indices = [z.normal], [z.tangential], ["zero force"], [0]
     out.update(rows=rows, results=results, tangential=tangential, labels=labels, indices=indices, curve=None)
     return out

@@ -167,12 +167,21 @@ def tangential_operator(op: ConvolutionOperator) -> TangentialOperator:
 
 
 def _as_pair(value, name: str):
+    """(x, y) from a pair or a scalar (taken along x); InputError naming ``name`` otherwise."""
     if value is None:
         return None
     try:
-        a, b = (float(v) for v in value)
-    except TypeError:
-        a, b = float(value), 0.0
+        if np.ndim(value) == 0:
+            a, b = float(value), 0.0
+        else:
+            vals = [float(v) for v in np.asarray(value, dtype=float).ravel()]
+            if len(vals) != 2:
+                raise InputError(name, f"must be a number or an (x, y) pair, got {len(vals)} components: {value!r}")
+            a, b = vals
+    except (TypeError, ValueError) as exc:
+        if isinstance(exc, InputError):
+            raise
+        raise InputError(name, f"must be a number or an (x, y) pair of numbers, got {value!r}") from None
     if not (math.isfinite(a) and math.isfinite(b)):
         raise InputError(name, f"must be finite, got {value!r}")
     return np.array([a, b])
@@ -242,14 +251,18 @@ def solve_tangential(
     top = tangential_operator(operator)
     xp, be, grid = top.xp, top.be, top.grid
     mu = friction_coefficient
-    if not isinstance(mu, (int, float)) or not math.isfinite(mu) or mu < 0:
+    if isinstance(mu, (bool, np.bool_)) or not isinstance(mu, (int, float, np.integer, np.floating)) \
+            or not math.isfinite(mu) or mu < 0:
         raise InputError("friction.coefficient", f"must be a finite number >= 0, got {mu!r}")
+    mu = float(mu)
     if (force is None) == (displacement is None):
         raise InputError("friction", "give exactly one of force (force control) or displacement (displacement control)")
     F = _as_pair(force, "friction.tangential_force")
     D = _as_pair(displacement, "friction.tangential_displacement")
     if not (tol > 0 and math.isfinite(tol)):
         raise InputError("solver.tolerance", f"must be a finite value > 0, got {tol!r}")
+    if not isinstance(max_iterations, (int, np.integer)) or max_iterations < 1:
+        raise InputError("solver.max_iterations", f"must be an integer >= 1, got {max_iterations!r}")
     p = xp.asarray(pressure, dtype=float)
     if p.shape != grid.shape:
         raise InputError("pressure", f"shape {tuple(p.shape)} does not match the grid {grid.shape}")
