@@ -15,7 +15,9 @@ total)``, ``bar(done, total)``), and returns a dict with the keys
 ``run``
     run-level scalars for summary.json;
 ``tangential`` (optional)
-    a list of :class:`~tribobem.results.TangentialResult`, one per entry of ``results``.
+    a list of :class:`~tribobem.results.TangentialResult`, one per entry of ``results``;
+``warnings`` (optional)
+    messages for summary.json ``warnings`` and the report's banner.
 
 A new kind is a new module here with a ``run(pb, bar)`` function and ONE line in
 :data:`RUNNERS`.  The scenario schema (:mod:`tribobem.scenario.schema`) lists the kinds it
@@ -53,6 +55,7 @@ RUNNERS: dict[str, Runner] = {
     "normal": _runner("normal"),
     "pulloff": _runner("pulloff"),
     "partial_slip": _runner("partial_slip"),
+    "hysteresis": _runner("hysteresis"),
     # a new kind: its module runs/<kind>.py and one line here
 }
 

@@ -239,11 +239,13 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     for i, r in enumerate(rows):
         r["index"] = i
     converged = bool(rows) and all(bool(r.get("converged")) for r in rows)
-    warns = list(pb.warnings)
+    warns = list(pb.warnings) + list(out.get("warnings", []))
     if not converged:
-        bad = sum(1 for r in rows if not r.get("converged"))
-        msg = (f"{bad} of {len(rows)} step(s) did not converge (tolerance {sc.solver.tolerance:g}, "
-               f"max_iterations {sc.solver.max_iterations}); see summary.json steps")
+        bad = [i for i, r in enumerate(rows) if not r.get("converged")]
+        where = ", ".join(str(i) for i in bad[:10]) + (", ..." if len(bad) > 10 else "")
+        msg = (f"{len(bad)} of {len(rows)} step(s) did not converge (steps {where}; tolerance "
+               f"{sc.solver.tolerance:g}, max_iterations {sc.solver.max_iterations}); the run went on from "
+               "their state; see summary.json steps")
         warns.append(msg)
         warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     curve = out.get("curve")
@@ -290,6 +292,11 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
                       roughness2=pb.roughness2 if sc.body2.roughness.kind != "none" else None,
                       summary_steps=indices, attrs=attrs,
                       **({"tangential": tangential} if tangential else {}))
+    for name, (maps, attrs_v) in (out.get("cycle_fields") or {}).items():
+        # Per-cycle maps of a run (e.g. frictional dissipation, accumulated slip): dims (cycle, x, y).
+        ds[name] = (("cycle", "x", "y"), np.stack([np.asarray(m, dtype=float) for m in maps]), attrs_v)
+    if "cycle" in ds.dims:
+        ds = ds.assign_coords(cycle=np.arange(1, ds.sizes["cycle"] + 1, dtype=np.int32))
 
     files = {}
     out_path = None

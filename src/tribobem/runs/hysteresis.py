@@ -1,0 +1,183 @@
+"""Run kind ``hysteresis``: tangential force or displacement cycles (Papers E and F).
+
+``[load] force`` is the normal force; ``[friction] path = {control, amplitude | stroke, cycles,
+steps}`` the tangential path (:func:`~tribobem.solvers.hysteresis.cycle_path`).  Rows: the SPEC
+9.1 step keys plus ``cycle``, ``branch``, ``force_ratio`` (F_x / (mu F0+ at F_x = 0)); the first
+row is the start (Paper E point A, F_x = 0, one-shot solve).  Run level: ``dissipated_energy``
+(loop area per cycle, J), ``dissipation_work`` (sum of q . ds per cycle, J: the same energy from
+the tractions), ``static_friction_force`` (first step without stick on the first loading branch),
+``presliding_displacement``, ``sliding_force`` (displacement paths in gross sliding),
+``lateral_stiffness`` (points A, B, C: F_x/(mu F0+) = -0.5, 0, 0.5 on the last branch from -F*
+to +F*), ``loop_change`` (max |dF_x| / mu F0+ between the last two loops, displacement paths).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from ..errors import InputError
+from ..solvers.hysteresis import hysteresis_loop, loop_energies
+from .common import solve_kw
+
+__all__ = ["run", "lateral_stiffness_fit", "STIFFNESS_POINTS"]
+
+#: Paper F's points on the branch from -F* to +F*: F_x / (mu F0+).
+STIFFNESS_POINTS = {"A": -0.5, "B": 0.0, "C": 0.5}
+
+
+def lateral_stiffness_fit(forces, displacements):
+    """Fit F = c1 (1 - (1 - c2 d)^n) (Paper F Eq. 3) to a branch measured from its turning point.
+
+    Parameters
+    ----------
+    forces, displacements : array_like
+        F - F_turn (N) and delta - delta_turn (m) along the branch (both increasing from 0).
+
+    Returns
+    -------
+    (c1, c2, n) and a callable K(d) = c1 c2 n (1 - c2 d)^(n - 1) (N/m).
+    """
+    from scipy.optimize import curve_fit
+
+    F = np.asarray(forces, float)
+    d = np.asarray(displacements, float)
+    if len(F) < 4:
+        raise InputError("lateral_stiffness", f"need at least 4 points on the branch to fit, got {len(F)}")
+    dmax = float(d.max())
+    Fmax = float(F.max())
+
+    def model(x, c1, c2, n):
+        return c1 * (1.0 - np.clip(1.0 - c2 * x, 1e-12, None) ** n)
+
+    # Start: Mindlin-like shape, n = 1.5 (the inverse of 2/3), (1 - c2 dmax) small.
+    p0 = (Fmax * 1.02, 0.98 / dmax, 1.5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        popt, _ = curve_fit(model, d, F, p0=p0, bounds=([Fmax * 0.5, 1e-6 / dmax, 1.0], [Fmax * 10, 1.0 / dmax, 5.0]),
+                            maxfev=20000)
+    c1, c2, n = (float(v) for v in popt)
+
+    def K(x):
+        return c1 * c2 * n * np.clip(1.0 - c2 * np.asarray(x, float), 1e-12, None) ** (n - 1.0)
+
+    return (c1, c2, n), K
+
+
+def _stiffness_table(rows, run, mu, f0p, radius, k_compliance):
+    """K_L at A, B, C on the last branch from -F* to +F* (fit from its turning point)."""
+    idx = [i for i, r in enumerate(rows) if r.get("branch") == "reloading"]
+    if not idx:
+        return [], {}
+    last_cycle = max(rows[i]["cycle"] for i in idx)
+    br = [i for i in idx if rows[i]["cycle"] == last_cycle]
+    turn = br[0] - 1  # the turning point -F* (last step of the unloading branch)
+    F0, d0 = rows[turn]["tangential_force_x"], rows[turn]["displacement_x"]
+    F = np.array([rows[i]["tangential_force_x"] for i in br]) - F0
+    D = np.array([rows[i]["displacement_x"] for i in br]) - d0
+    F = np.concatenate([[0.0], F])
+    D = np.concatenate([[0.0], D])
+    (c1, c2, n), K = lateral_stiffness_fit(F, D)
+    Fstar = -F0
+    K0 = 8.0 * radius / k_compliance if k_compliance > 0 else float("nan")
+    table = []
+    for name, ratio in STIFFNESS_POINTS.items():
+        Ft = ratio * mu * f0p
+        if not (-Fstar <= Ft <= Fstar):
+            continue
+        dd = float(np.interp(Ft - F0, F, D))
+        k_fit = float(K(dd))
+        # Exact Mindlin-Deresiewicz branch through the same turning point (SPEC 9.1).
+        k_md = K0 * max(1.0 - (Fstar + Ft) / (2.0 * mu * f0p), 0.0) ** (1.0 / 3.0)
+        # Paper F Eq. 6: the virgin-curve slope at the same |force|.
+        k_virgin = K0 * max(1.0 - abs(Ft) / (mu * f0p), 0.0) ** (1.0 / 3.0)
+        table.append({"point": name, "force_ratio": ratio, "tangential_force": Ft, "displacement": dd + d0,
+                      "stiffness": k_fit, "mindlin_stiffness": k_md, "virgin_stiffness": k_virgin})
+    return table, {"c1": c1, "c2": c2, "n": n}
+
+
+def run(pb, bar) -> dict:
+    """Run a ``hysteresis`` scenario on its built :class:`~tribobem.scenario.build.Problem`."""
+    sc = pb.scenario
+    fr, load = sc.friction, sc.load
+    path = fr.path
+    mu = float(fr.coefficient)
+    kw = solve_kw(sc)
+    from .partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
+
+    solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
+                 "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE}
+    n_steps = max(path.steps // 4, 4) + path.cycles * 2 * (path.steps // 2)
+    bar.phase("hysteresis steps", n_steps)
+    res = hysteresis_loop(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, control=path.control,
+                          amplitude=path.amplitude if path.amplitude is not None else 0.999, stroke=path.stroke,
+                          cycles=path.cycles, steps=path.steps, direction=fr.direction, interaction=pb.interaction,
+                          progress=bar, **solver_kw)
+    e = res.direction
+    f0p = res.start.normal.repulsive_force
+
+    def row(r, cycle, branch):
+        d = r.scalars()
+        d.update(cycle=int(cycle), branch=branch)
+        ft = r.tangential.force_x * e[0] + r.tangential.force_y * e[1]
+        d["force_ratio"] = ft / (mu * f0p) if mu > 0 and f0p > 0 else float("nan")
+        return d
+
+    rows = [row(res.start, 0, "start")]
+    rows += [row(r, c, b) for r, c, b in zip(res.steps, res.path.cycle, res.path.branch)]
+    F = [r["tangential_force_x"] for r in rows]
+    D = [r["displacement_x"] for r in rows]
+    C = [r["cycle"] for r in rows]
+    run_level = {"friction_coefficient": mu, "control": path.control, "repulsive_force": f0p,
+                 "adhesive_force": res.start.normal.adhesive_force,
+                 "peak_force": res.peak_force if path.control == "force" else None,
+                 "dissipated_energy": loop_energies(F, D, C),
+                 "dissipation_work": [float(w.sum()) * pb.grid.cell_area for w in res.dissipation[1:]],
+                 "failed_steps": [int(i) + 1 for i in res.failed]}
+    # Gross-slip onset on the first loading branch.
+    load_rows = [r for r in rows if r["branch"] in ("start", "loading")]
+    onset = next((r for r in load_rows if r["stick_area"] == 0.0 and r["branch"] == "loading"), None)
+    if onset is not None:
+        run_level["static_friction_force"] = onset["tangential_force_x"]
+        run_level["static_friction_ratio"] = onset["force_ratio"]
+        run_level["presliding_displacement"] = onset["displacement_x"] - rows[0]["displacement_x"]
+    if path.control == "displacement":
+        gross = [abs(r["tangential_force_x"]) for r in rows if r.get("gross_slip")]
+        run_level["sliding_force"] = float(np.mean(gross)) if gross else None
+        last = [i for i, r in enumerate(rows) if r["cycle"] == path.cycles]
+        prev = [i for i, r in enumerate(rows) if r["cycle"] == path.cycles - 1 and r["cycle"] >= 1]
+        if last and prev and len(last) == len(prev):
+            dF = max(abs(rows[i]["tangential_force_x"] - rows[j]["tangential_force_x"]) for i, j in zip(last, prev))
+            run_level["loop_change"] = dF / (mu * f0p) if mu > 0 else None
+    # Lateral stiffness (Paper F) on the last branch from -F* to +F*.
+    k_comp = sum(0.0 if m.is_rigid else (2.0 - m.nu) / m.shear_modulus for m in (pb.pair.body1, pb.pair.body2))
+    radius = math.sqrt(res.start.normal.contact_area_compressive / math.pi)
+    try:
+        table, fit = _stiffness_table(rows, res, mu, f0p, radius, k_comp)
+        run_level["lateral_stiffness"] = table
+        run_level["lateral_stiffness_fit"] = fit
+    except (InputError, RuntimeError, ValueError) as exc:
+        run_level["lateral_stiffness"] = []
+        run_level["lateral_stiffness_error"] = str(exc)
+    # Fields: the start and each turning point (Paper E A, D, H, L ...) and the step after (A', D', H').
+    keep = [0]
+    for i, t in enumerate(res.path.turning):
+        if t:
+            keep += [i + 1, i + 2] if i + 2 < len(rows) else [i + 1]
+    keep = sorted(set(k for k in keep if k < len(rows)))
+    all_states = [res.start] + res.steps
+    results = [all_states[i].normal for i in keep]
+    tangential = [all_states[i].tangential for i in keep]
+    labels = [f"{rows[i]['branch']} {rows[i]['cycle']} step {i}" for i in keep]
+    cycle_fields = {}
+    if len(res.dissipation) > 1:
+        cycle_fields = {
+            "dissipation": (res.dissipation[1:], {"units": "J m-2", "long_name": "frictional dissipation per cycle "
+                                                  "(sum of -q . ds over the cycle's steps)"}),
+            "accumulated_slip": (res.accumulated_slip[1:], {"units": "m", "long_name": "accumulated slip length per "
+                                                            "cycle (sum of |ds|)"}),
+        }
+    return {"rows": rows, "results": results, "tangential": tangential, "labels": labels, "indices": keep,
+            "curve": None, "run": run_level, "cycle_fields": cycle_fields}
