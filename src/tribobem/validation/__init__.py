@@ -44,6 +44,7 @@ PHYSICS = (
     "normal",      # hertz, westergaard, bisinusoidal_small_load, bisinusoidal_near_full, force_balance, periodic_vs_free
     "adhesion",    # maugis_dugdale, md_pull_off, guduru
     "tangential",  # cattaneo_mindlin, cattaneo_periodic, mindlin_stiffness, coupling_sign, spence
+    "hysteresis",  # mindlin_deresiewicz
 )
 
 

@@ -1,0 +1,99 @@
+"""Validation of friction hysteresis (Papers E and F; SPEC 7).
+
+Cases
+-----
+``mindlin_deresiewicz``
+    Two identical steel bodies (no coupling), sphere R = 10 mm, P = 10 N, mu = 0.3, free
+    boundary over +-1.5a, one cycle 0 -> +Q* -> -Q* -> +Q* at Q* = 0.8 mu P with the incremental
+    slip criterion.  Against Mindlin-Deresiewicz (SPEC 7, with the corrected Eq. 2.27c): the
+    largest displacement error over the loading, unloading and reloading branches relative to
+    the branch amplitude delta* (3%), the loop energy (loop area, 5%), the stick radius at mid
+    unloading and mid reloading against the counter-slip radius
+    c'/a = (1 - (Q* -+ Q)/(2 mu P))^(1/3) (3%), and the lateral stiffness at Paper F's points A,
+    B, C (Q/(mu P) = -0.5, 0, 0.5 on the branch from -Q*) from the fit of Paper F Eq. 3 against
+    the slope of the exact branch K0 (1 - (Q* + Q)/(2 mu P))^(1/3), K0 = 8a/k (5%).
+    Quick: 64^2, 24 steps per cycle; full: 128^2, 48 steps.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from ..errors import ConvergenceWarning
+from .common import _row
+from .tangential import _mindlin_k, cattaneo_problem
+
+__all__ = ["CASES", "mindlin_deresiewicz_delta"]
+
+
+def mindlin_deresiewicz_delta(Q, branch: str, Q_star: float, mu: float, P: float, delta0: float):
+    """Mindlin-Deresiewicz tangential displacement (m) on a branch (SPEC 7, corrected 2.27c)."""
+    Q = np.asarray(Q, float)
+    muP = mu * P
+    if branch == "loading":
+        return delta0 * (1.0 - (1.0 - Q / muP) ** (2.0 / 3.0))
+    base = (1.0 - Q_star / muP) ** (2.0 / 3.0)
+    if branch == "unloading":
+        return delta0 * (2.0 * (1.0 - (Q_star - Q) / (2.0 * muP)) ** (2.0 / 3.0) - base - 1.0)
+    return -delta0 * (2.0 * (1.0 - (Q_star + Q) / (2.0 * muP)) ** (2.0 / 3.0) - base - 1.0)
+
+
+def _md_rows(quick: bool) -> list:
+    from ..runs.hysteresis import STIFFNESS_POINTS, lateral_stiffness_fit
+    from ..solvers.hysteresis import hysteresis_loop, loop_energies
+
+    n, steps = (64, 24) if quick else (128, 48)
+    P, mu, amp = 10.0, 0.3, 0.8
+    grid, gap, op, pair, a = cattaneo_problem(n)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        run = hysteresis_loop(op, gap, normal_force=P, friction_coefficient=mu, amplitude=amp, cycles=1, steps=steps,
+                              tangential_tol=1e-8)
+    k = _mindlin_k(pair)
+    d0 = 3.0 * mu * P * k / (16.0 * a)
+    Qs = run.peak_force  # = amp mu F0+ (F0+ = P without adhesion)
+    F = np.array([s.tangential.force_x for s in run.steps])
+    D = np.array([s.tangential.displacement_x for s in run.steps])
+    br = run.path.branch
+    dstar = float(mindlin_deresiewicz_delta(Qs, "loading", Qs, mu, P, d0))
+    case = f"mindlin_deresiewicz {n}^2, Q* = {amp:g} mu P"
+    rows = []
+    for name in ("loading", "unloading", "reloading"):
+        sel = br == name
+        ref = mindlin_deresiewicz_delta(F[sel], name, Qs, mu, P, d0)
+        err = np.abs(D[sel] - ref)
+        i = int(np.argmax(err))
+        rows.append(_row(case, f"delta on the {name} branch (largest error, relative to delta*)",
+                         float(ref[i]), float(D[sel][i]), 0.03, scale=dstar))
+    r = Qs / (mu * P)
+    W = 9.0 * mu**2 * P**2 * k / (10.0 * a) * (1.0 - (1.0 - r) ** (5.0 / 3.0) - 5.0 * r / 6.0 * (1.0 + (1.0 - r) ** (2.0 / 3.0)))
+    E = loop_energies(np.concatenate([[0.0], F]), np.concatenate([[0.0], D]), np.concatenate([[0], run.path.cycle]))
+    rows.append(_row(case, "loop energy (loop area)", W, E[0], 0.05))
+    # Stick radius mid-branch: the counter-slip radius c'.
+    for name, sign in (("unloading", 1.0), ("reloading", -1.0)):
+        idx = np.flatnonzero(br == name)
+        j = idx[np.argmin(np.abs(F[idx]))]  # the step nearest Q = 0
+        c_ref = a * (1.0 - (Qs - sign * F[j]) / (2.0 * mu * P)) ** (1.0 / 3.0)
+        c_num = math.sqrt(run.steps[j].tangential.stick_area / math.pi)
+        rows.append(_row(case, f"stick radius on the {name} branch at Q = {F[j] / (mu * P):+.3f} mu P", c_ref, c_num, 0.03))
+    # Lateral stiffness at A, B, C on the reloading branch (fit from the turning point -Q*).
+    idx = np.flatnonzero(br == "reloading")
+    t = idx[0] - 1
+    Fb = np.concatenate([[0.0], F[idx] - F[t]])
+    Db = np.concatenate([[0.0], D[idx] - D[t]])
+    _, K = lateral_stiffness_fit(Fb, Db)
+    K0 = 8.0 * a / k
+    for point, ratio in STIFFNESS_POINTS.items():
+        Qp = ratio * mu * P
+        dd = float(np.interp(Qp - F[t], Fb, Db))
+        k_md = K0 * (1.0 - (Qs + Qp) / (2.0 * mu * P)) ** (1.0 / 3.0)
+        rows.append(_row(case, f"lateral stiffness at {point} (Q = {ratio:+g} mu P), fit vs exact branch slope",
+                         k_md, float(K(dd)), 0.05))
+    return rows
+
+
+#: name -> rows(quick)
+CASES = {"mindlin_deresiewicz": _md_rows}
