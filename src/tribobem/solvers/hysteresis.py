@@ -34,6 +34,7 @@ import numpy as np
 
 from ..errors import ConvergenceWarning, InputError
 from .coupling import solve_coupled
+from .tangential import GrossSlipError
 
 __all__ = ["CyclePath", "cycle_path", "HysteresisRun", "hysteresis_loop", "loop_energies"]
 
@@ -215,9 +216,17 @@ def hysteresis_loop(
         for k, v in enumerate(path.values):
             load = ({"tangential_force": tuple(v * e)} if control == "force"
                     else {"tangential_displacement": tuple(v * e)})
-            res = solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
-                                interaction=interaction, reference=prev.tangential.relative_displacement,
-                                initial=prev, **load, **solver_kw)
+            try:
+                res = solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
+                                    interaction=interaction, reference=prev.tangential.relative_displacement,
+                                    initial=prev, **load, **solver_kw)
+            except GrossSlipError as exc:
+                raise GrossSlipError(
+                    "friction.path.amplitude",
+                    f"the tangential force {abs(v):.6g} N of step {k + 1} ({path.branch[k]}, cycle {path.cycle[k]}) "
+                    f"cannot be carried: the contact carries at most mu F0+ = {exc.max_force:.6g} N there, so the "
+                    f"largest reachable amplitude is F* = {exc.max_force:.6g} N "
+                    f"({exc.max_force / (mu * start.normal.repulsive_force):.4f} mu F0+ of the start)", exc.max_force) from None
             if not res.converged:
                 run.failed.append(k)
             c = int(path.cycle[k])
