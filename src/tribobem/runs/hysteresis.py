@@ -114,7 +114,7 @@ def run(pb, bar) -> dict:
     res = hysteresis_loop(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, control=path.control,
                           amplitude=path.amplitude if path.amplitude is not None else 0.999, stroke=path.stroke,
                           cycles=path.cycles, steps=path.steps, direction=fr.direction, interaction=pb.interaction,
-                          progress=bar, **solver_kw)
+                          moving_gap=pb.shifted_gap if pb.upper_moves_visibly else None, progress=bar, **solver_kw)
     e = res.direction
     f0p = res.start.normal.repulsive_force
 
@@ -143,6 +143,8 @@ def run(pb, bar) -> dict:
         run_level["static_friction_force"] = onset["tangential_force_x"]
         run_level["static_friction_ratio"] = onset["force_ratio"]
         run_level["presliding_displacement"] = onset["displacement_x"] - rows[0]["displacement_x"]
+    if res.offsets and np.any(res.offsets):
+        run_level["counterface_offset_max"] = float(np.max(np.hypot(*np.array(res.offsets).T)))
     if path.control == "displacement":
         gross = [abs(r["tangential_force_x"]) for r in rows if r.get("gross_slip")]
         run_level["sliding_force"] = float(np.mean(gross)) if gross else None

@@ -71,6 +71,40 @@ class Problem:
     warnings: list = field(default_factory=list)
     base_dir: Path = Path(".")
 
+    @property
+    def upper_moves_visibly(self) -> bool:
+        """True when shifting body 2 changes the gap (it has a shape or a roughness)."""
+        return bool(np.ptp(self.shape2) > 0 or np.ptp(self.roughness2) > 0)
+
+    def shifted_gap(self, offset) -> np.ndarray:
+        """The initial gap with body 2 moved rigidly by ``offset`` = (dx, dy) in m.
+
+        Body 1 stays on the grid; body 2's shape and roughness are shifted: exactly (a Fourier
+        phase shift) on a periodic grid, by cubic interpolation on a free-boundary grid (values
+        beyond the edge repeat the edge).  Same reference as :attr:`gap` (no re-zeroing), so
+        approaches stay comparable.  Used for gross sliding against a rough counterface (thesis
+        recommendation 3: new contact pairs form).
+        """
+        ox, oy = (float(v) for v in offset)
+        upper = self.shape2 - self.roughness2
+        if ox == 0.0 and oy == 0.0:
+            moved = upper
+        elif self.grid.periodic:
+            kx = 2.0 * np.pi * np.fft.fftfreq(self.grid.nx, self.grid.dx)[:, None]
+            ky = 2.0 * np.pi * np.fft.rfftfreq(self.grid.ny, self.grid.dy)[None, :]
+            moved = np.fft.irfft2(np.fft.rfft2(upper) * np.exp(-1j * (kx * ox + ky * oy)), s=upper.shape)
+        else:
+            from scipy.ndimage import shift
+
+            moved = shift(upper, (ox / self.grid.dx, oy / self.grid.dy), order=3, mode="nearest")
+        lower = self.shape1 - self.roughness1
+        return lower + moved - self.gap_offset
+
+    @property
+    def gap_offset(self) -> float:
+        """The constant subtracted from shape1 + shape2 - rough1 - rough2 to make min(gap) = 0."""
+        return float(np.min(self.shape1 + self.shape2 - self.roughness1 - self.roughness2))
+
 
 def resolve_path(path: str, base_dir: Path) -> Path:
     """``path`` with ``~`` and environment variables expanded, relative to ``base_dir``."""

@@ -19,8 +19,10 @@ spacing): the steps are densest right after a reversal (A', D', H') and right be
 point, where a small force change moves the contact most; m = steps/2 per branch (steps/4 for the
 initial loading, at least 4).
 
-A rough counterface that moves with the rigid shift during gross sliding (thesis recommendation
-3) is not handled yet: the gap is the initial one at every step (exact for smooth bodies).
+Gross sliding against a rough counterface (thesis recommendation 3): with ``moving_gap`` the
+upper body's geometry moves with the sliding (after each step in gross slip, by that step's
+displacement increment), so new contact pairs form; the elastic pre-sliding displacement does not
+move the geometry (small-displacement theory).
 """
 
 from __future__ import annotations
@@ -138,6 +140,7 @@ class HysteresisRun:
     message: str = ""
     dissipation: list = field(default_factory=list)
     accumulated_slip: list = field(default_factory=list)
+    offsets: list = field(default_factory=list)
 
 
 def hysteresis_loop(
@@ -153,6 +156,7 @@ def hysteresis_loop(
     steps: int = 40,
     direction: float = 0.0,
     interaction=None,
+    moving_gap: Callable | None = None,
     progress: Callable[[int, int], None] | None = None,
     **solver_kw,
 ) -> HysteresisRun:
@@ -177,6 +181,12 @@ def hysteresis_loop(
         Full cycles after the initial loading; steps per cycle.
     direction : float
         Degrees from the x axis.
+    moving_gap : callable, optional
+        ``moving_gap(offset) -> gap`` with body 2 moved by ``offset`` (m, 2-vector).  Under
+        displacement control the counterface then moves with the sliding: after every step in
+        gross slip the offset grows by that step's rigid-displacement increment (thesis
+        recommendation 3; new contact pairs form on a rough counterface).  None: the gap is fixed
+        (exact for smooth bodies).
     **solver_kw
         Passed to :func:`~tribobem.solvers.coupling.solve_coupled`.
 
@@ -210,14 +220,21 @@ def hysteresis_loop(
         run = HysteresisRun(start=start, steps=[], path=path, direction=e,
                             peak_force=peak if control == "force" else float("nan"))
         prev = start
+        offset = np.zeros(2)
+        gap_k = gap
         n_cycles = int(path.cycle.max())
         diss = [None] * (n_cycles + 1)
         slip = [None] * (n_cycles + 1)
         for k, v in enumerate(path.values):
             load = ({"tangential_force": tuple(v * e)} if control == "force"
                     else {"tangential_displacement": tuple(v * e)})
+            if moving_gap is not None and control == "displacement" and k > 0 and prev.tangential.gross_slip:
+                d_prev = np.array([prev.tangential.displacement_x, prev.tangential.displacement_y])
+                d_new = v * e
+                offset = offset + (d_new - d_prev)
+                gap_k = moving_gap(offset)
             try:
-                res = solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
+                res = solve_coupled(operator, gap_k, friction_coefficient=mu, normal_force=normal_force,
                                     interaction=interaction, reference=prev.tangential.relative_displacement,
                                     initial=prev, **load, **solver_kw)
             except GrossSlipError as exc:
@@ -238,6 +255,7 @@ def hysteresis_loop(
             diss[c] = w if diss[c] is None else diss[c] + w
             slip[c] = dl if slip[c] is None else slip[c] + dl
             run.steps.append(res)
+            run.offsets.append(offset.copy())
             prev = res
             if progress:
                 progress(k + 1, len(path.values))
