@@ -9,6 +9,8 @@ wavy      Rigid sphere on an axisymmetric wavy surface with a Dugdale zone (Gudu
 periodic  Westergaard sinusoid, bisinusoidal (JGH 1985) asymptotes, Paper A bisinusoidal
           pull-off fit.
 rough     Greenwood-Williamson and Persson theories (thesis 2.1.1-2.1.2).
+mindlin   Cattaneo-Mindlin, Mindlin-Deresiewicz loops (SPEC 7, corrected Eq. 2.27c) and the
+          Spence (1975) stick ratio of normal loading with friction (dissimilar bodies).
 
 Conventions: SI units, E* the composite modulus, forces positive when compressive, pull-off
 forces NEGATIVE (``*_pull_off_magnitude`` helpers give |F|), approach positive when the bodies
@@ -25,6 +27,14 @@ from .adhesion import (
     maugis_from_tabor, maugis_parameter, tabor_from_maugis, tabor_parameter,
 )
 from .hertz import HertzSolution, hertz, hertz_pressure
+from .mindlin import (
+    MindlinLoop, cattaneo_mindlin_displacement, cattaneo_mindlin_traction, cattaneo_stick_ratio,
+    mindlin_compliance_k, mindlin_delta0, mindlin_deresiewicz_loop, mindlin_initial_stiffness,
+    mindlin_loop_energy, mindlin_reloading_displacement, mindlin_reloading_stick_ratio,
+    mindlin_reloading_stiffness, mindlin_unloading_displacement, mindlin_unloading_stick_ratio,
+    mindlin_unloading_stiffness, mindlin_virgin_stiffness, spence_beta_over_mu,
+    spence_stick_ratio, spence_traction,
+)
 from .periodic import (
     BisinusoidalAsymptotes, WestergaardSolution, bisinusoidal_asymptotes,
     bisinusoidal_curvature_radius, bisinusoidal_full_contact_pressure, bisinusoidal_pull_off_fit,
@@ -67,4 +77,12 @@ __all__ = [
     "greenwood_williamson_F", "GreenwoodWilliamsonResult", "greenwood_williamson",
     "persson_G", "persson_P_sigma", "persson_contact_area", "persson_self_affine_C0",
     "persson_self_affine_psd", "persson_self_affine_G", "persson_area_self_affine",
+    # mindlin
+    "mindlin_compliance_k", "mindlin_delta0", "mindlin_initial_stiffness",
+    "cattaneo_stick_ratio", "cattaneo_mindlin_displacement", "cattaneo_mindlin_traction",
+    "mindlin_virgin_stiffness", "mindlin_unloading_displacement", "mindlin_reloading_displacement",
+    "mindlin_unloading_stick_ratio", "mindlin_reloading_stick_ratio",
+    "mindlin_unloading_stiffness", "mindlin_reloading_stiffness", "mindlin_loop_energy",
+    "MindlinLoop", "mindlin_deresiewicz_loop",
+    "spence_beta_over_mu", "spence_stick_ratio", "spence_traction",
 ]
