@@ -20,23 +20,25 @@ slip (no dilatancy).
 Method (ours; the thesis cites its tangential CGM without describing it).  The problem is the
 minimisation of the convex energy 1/2 q.K_tt q + q.(K_tz p - s_ref) over the set C of tractions
 with |q_i| <= mu p_i (the friction discs) and, under force control, sum(q) = F / (dx dy); the
-rigid shift delta is the multiplier of that constraint.  We solve it by an accelerated projected
-gradient (FISTA, Beck and Teboulle 2009) with adaptive restart (O'Donoghue and Candes 2015):
+rigid shift delta is the multiplier of that constraint.  Two solvers:
 
-1. a gradient step from the extrapolated point y: z = y - (K_tt y + K_tz p - s_ref - delta)/L,
-   with L the largest eigenvalue of the 2x2 symbol of K_tt (an upper bound of the restricted
-   operator's spectrum, so every step decreases the energy);
-2. the exact Euclidean projection onto C: q_i = P_disc_i(z_i + lambda), the 2-D multiplier
-   lambda found by safeguarded Newton steps on the monotone force balance sum_i q_i = F/(dx dy)
-   (force control; delta = L lambda at the fixed point); nodes whose trial lies inside their
-   disc stick, the others slip on the rim, opposing their slip;
-3. the momentum is dropped whenever it points uphill (gradient restart).
-
-One tangential convolution (two forward and two inverse real FFTs) per iteration; every
-iteration is a descent step of a convex problem, so the method converges from any start,
-through any change of the stick set and of the slip directions (the Polonsky-Keer-like
-active-set variants we tried first oscillated when the slip directions rotate, as they do for
-dissimilar materials).  Warm starts (the previous step or coupling iteration) cut the count.
+* ``method="tangcg"`` (default; the idea of Vollebregt's TangCG in CONTACT, written anew): a
+  conjugate gradient over the stick nodes and the slip nodes, the slip tractions moving along
+  their rim only, with the rim curvature |s.n| / (mu p) in their Jacobian (the linearised
+  rotation of a traction that must oppose its slip: this is what keeps rotating slip directions
+  stable), diagonal preconditioning, the tractions put back on the rim after each step, and
+  every 4 steps an exact slip and an update of the element division (stick tractions beyond
+  their disc slip, slip nodes whose slip runs along their traction stick again; restart).  Under
+  force control the search direction carries no net force and delta is the mean slip of the
+  stick nodes (Polonsky-Keer's mean gap).  50-70 iterations on Cattaneo-Mindlin at 128^2 (about
+  1.3 convolutions each), against 260-900 for the projected gradient;
+* ``method="fista"``, and the fallback when TangCG stalls or, under force control, no node
+  sticks: an accelerated projected gradient (FISTA, Beck and Teboulle 2009) with adaptive restart
+  (O'Donoghue and Candes 2015): a gradient step of length 1/L (L the largest eigenvalue of the
+  2x2 symbol of K_tt) and the exact projection onto C (q_i = P_disc_i(z_i + lambda), the 2-D
+  multiplier lambda found by safeguarded Newton steps on the monotone force balance; delta = L
+  lambda at the fixed point).  Every iteration is a descent step of a convex problem, so it
+  converges from any start, including the all-slip states of gross sliding.
 
 Convergence needs both the relative traction change sum|dq| / sum mu p and the stick-slip
 complementarity residual to fall below ``tol``: the rms over C+ of |s| on stick nodes and of
@@ -202,6 +204,7 @@ def solve_tangential(
     max_iterations: int = 5000,
     strict: bool = False,
     stall: int = 1000,
+    method: str = "tangcg",
 ) -> TangentialResult:
     """Solve the partial-slip problem at a given pressure.
 
@@ -234,6 +237,11 @@ def solve_tangential(
         Raise :class:`~tribobem.errors.ConvergenceError` instead of warning.
     stall : int
         Stop (not converged) after this many iterations without improving the residual.
+    method : {"tangcg", "fista"}
+        "tangcg" (default): conjugate gradients on the stick and slip nodes with the rim
+        curvature term (see the module docstring), falling back to "fista" when it does not
+        converge (or no node sticks under force control); "fista": the accelerated projected
+        gradient only.
 
     Returns
     -------
@@ -261,6 +269,8 @@ def solve_tangential(
     D = _as_pair(displacement, "friction.tangential_displacement")
     if not (tol > 0 and math.isfinite(tol)):
         raise InputError("solver.tolerance", f"must be a finite value > 0, got {tol!r}")
+    if method not in ("tangcg", "fista"):
+        raise InputError("solver.tangential_method", f"must be 'tangcg' or 'fista', got {method!r}")
     if not isinstance(max_iterations, (int, np.integer)) or max_iterations < 1:
         raise InputError("solver.max_iterations", f"must be an integer >= 1, got {max_iterations!r}")
     p = xp.asarray(pressure, dtype=float)
@@ -338,22 +348,36 @@ def solve_tangential(
         converged, message = True, "frictionless (mu = 0): no shear"
         st.finish_frictionless()
     else:
-        for it in range(1, max_iterations + 1):
-            st.iterate()
-            res = max(st.change, st.complementarity / s_scale)
-            history.append(res)
-            if res < best:
-                best, best_it = res, it
-            elif it - best_it >= stall:
-                message = (f"stalled: no progress in {stall} iterations (residual {res:.3e}, best {best:.3e}, "
-                           f"tolerance {tol:.1e})")
-                break
-            if res < tol:
-                converged = True
-                message = f"converged in {it} iterations"
-                break
-        else:
-            message = f"not converged after {max_iterations} iterations (residual {history[-1]:.3e}, tolerance {tol:.1e})"
+        used = 0
+        if method == "tangcg":
+            cg = _TangCG(st, s_scale, tol)
+            converged, used, message = cg.run(max_iterations, stall, history)
+            st.cg_iterations = used
+            if not converged:
+                # Fall back to the accelerated projected gradient from the best (admissible) state.
+                cg.restore_best()
+                st.reset_momentum()
+                message = f"TangCG: {message}; continued by the projected gradient"
+        if not converged:
+            best, best_it = float("inf"), used
+            for it in range(used + 1, max_iterations + 1):
+                st.iterate()
+                res = max(st.change, st.complementarity / s_scale)
+                history.append(res)
+                if res < best:
+                    best, best_it = res, it
+                elif it - best_it >= stall:
+                    message = (f"stalled: no progress in {stall} iterations (residual {res:.3e}, best {best:.3e}, "
+                               f"tolerance {tol:.1e})")
+                    break
+                if res < tol:
+                    converged = True
+                    message = (message + "; " if message else "") + f"converged in {it} iterations"
+                    break
+            else:
+                if used < max_iterations or not history:
+                    message = (f"not converged after {max_iterations} iterations (residual "
+                               f"{history[-1] if history else float('nan'):.3e}, tolerance {tol:.1e})")
 
     # Final fields (full grid), consistent with the returned shear.
     qx = xp.zeros(grid.size if hasattr(grid, "size") else grid.nx * grid.ny)
@@ -402,7 +426,8 @@ def solve_tangential(
         gross_slip=gross,
         time=time.perf_counter() - t_start,
         message=message,
-        info={"capacity": capacity, "slip_scale": s_scale, "convolutions": st.n_apply, "restarts": st.restarts},
+        info={"capacity": capacity, "slip_scale": s_scale, "convolutions": st.n_apply, "restarts": st.restarts, "method": method,
+              "tangcg_iterations": getattr(st, "cg_iterations", 0)},
     )
 
 
@@ -473,6 +498,16 @@ class _Tangential:
         t[0] = self.bound
         u = self._apply(t)
         return max(float(self.xp.abs(u).max()), 1e-300)
+
+    def reset_momentum(self):
+        """Restart the projected gradient from the current state (after another method)."""
+        self.Kq = self._apply(self.q)
+        self.n_apply += 1
+        self.y, self.Ky = self.q.copy(), self.Kq.copy()
+        self.t_mom = 1.0
+        self.stick = self._stick_mask()
+        if self.force_control:
+            self._update_delta()
 
     def finish_frictionless(self):
         self.q[...] = 0.0
@@ -591,3 +626,197 @@ class _Tangential:
             viol[slip] = xp.sqrt((ss[0] + smag * d[0]) ** 2 + (ss[1] + smag * d[1]) ** 2)
         self.complementarity = float(xp.sqrt((viol * viol).mean())) if self.n else 0.0
 
+
+
+class _TangCG:
+    """Conjugate gradients over the stick AND slip nodes (the idea of Vollebregt's TangCG in
+    CONTACT; our own implementation, with the force constraint handled as in Polonsky-Keer).
+
+    Stick nodes move freely (residual -s); slip nodes move only along their rim (residual: the
+    part of -s along the rim tangent t, perpendicular to the traction direction n), and their
+    Jacobian carries the rim curvature |s.n| / g (the linearised rotation of a traction that must
+    stay opposite to its slip), which keeps the slip directions stable.  Diagonal preconditioning
+    (K_ii, and K_ii + |s.n|/g on slip nodes).  After each step the slip tractions are put back on
+    the rim.  Every ``INNER`` steps (or earlier when the update is small) the slip is recomputed
+    exactly and the element division is updated: stick tractions beyond their disc start to slip,
+    slip nodes whose slip runs along their traction return to stick (the conjugate direction then
+    restarts).  Under force control the direction is made force-free (sum v = 0 on the stick
+    nodes) and delta is the mean of K q + K_tz p - s_ref over the stick nodes; the mean of K v over
+    the stick nodes is removed from the Jacobian-vector product (delta follows the step).
+    """
+
+    INNER = 4
+
+    def __init__(self, st, s_scale, tol):
+        self.st, self.xp = st, st.xp
+        self.s_scale, self.tol = s_scale, tol
+        self.fatal = False
+        self.best = (float("inf"), None, None, None)
+        self.stick = st._stick_mask()
+
+    def restore_best(self):
+        """Back to the best checked state, or (before any check) to an admissible one: the
+        tractions projected onto their discs with the force restored on the stick nodes."""
+        st = self.st
+        _, q, Kq, delta = self.best
+        if q is not None:
+            st.q[...] = q
+            st.Kq = Kq
+            st.delta = delta
+            return
+        _project(self.xp, st.q, st.bound)
+        if st.force_control:
+            inside = st._stick_mask()
+            n_in = int(inside.sum())
+            if n_in:
+                deficit = st.target - np.array([float(st.q[0].sum()), float(st.q[1].sum())])
+                st.q[0, inside] += deficit[0] / n_in
+                st.q[1, inside] += deficit[1] / n_in
+                _project(self.xp, st.q, st.bound)
+
+    def _exact(self):
+        """Exact K q, delta and slip s on the contact nodes."""
+        st, xp = self.st, self.xp
+        st.Kq = st._apply(st.q)
+        st.n_apply += 1
+        s_raw = st.Kq + st.v0
+        if st.force_control:
+            if not bool(self.stick.any()):
+                return None
+            st.delta = np.array([float(s_raw[0][self.stick].mean()), float(s_raw[1][self.stick].mean())])
+        return s_raw - xp.asarray(st.delta)[:, None]
+
+    def run(self, max_iterations: int, stall: int, history: list):
+        st, xp = self.st, self.xp
+        b = st.bound
+        kii = st.kii
+        q = st.q
+        s = self._exact()
+        if s is None:
+            self.fatal = True
+            return False, 0, "no stick node under force control (gross slip)"
+        best_res, best_it = float("inf"), 0
+        inner = 0
+        v = qv_prev = None
+        q_outer = q.copy()
+        r = n = t = None
+        restart = True
+        for it in range(1, max_iterations + 1):
+            stick = self.stick
+            slip = ~stick
+            if r is None:
+                # Directions of the slip tractions and the residual.
+                mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
+                n = q / xp.where(mag > 0, mag, 1.0)
+                t = xp.stack([-n[1], n[0]])
+                r = -s
+                if bool(slip.any()):
+                    rt = t[0, slip] * r[0, slip] + t[1, slip] * r[1, slip]
+                    r[0, slip] = rt * t[0, slip]
+                    r[1, slip] = rt * t[1, slip]
+            # Curvature of the rim: |s.n| / g on slip nodes (s.n < 0 for a proper slip).
+            sn = xp.zeros(st.n)
+            if bool(slip.any()):
+                sn[slip] = xp.maximum(-(s[0, slip] * n[0, slip] + s[1, slip] * n[1, slip]), 0.0) / \
+                    xp.where(b[slip] > 0, b[slip], 1.0)
+            z = xp.empty_like(r)
+            z[0] = r[0] / (kii[0] + sn)
+            z[1] = r[1] / (kii[1] + sn)
+            if bool(slip.any()):
+                zt = t[0, slip] * z[0, slip] + t[1, slip] * z[1, slip]
+                z[0, slip] = zt * t[0, slip]
+                z[1, slip] = zt * t[1, slip]
+            if restart or v is None:
+                v = z
+            else:
+                zq = _dot(z, qv_prev)
+                vq = _dot(v, qv_prev)
+                beta = 0.0 if (abs(zq) < 1e-300 or abs(vq) < 1e-6 * abs(zq)) else -zq / vq
+                v = z + beta * v
+            restart = False
+            n_st = int(stick.sum())
+            if st.force_control and n_st:
+                v[0, stick] -= float(v[0].sum()) / n_st
+                v[1, stick] -= float(v[1].sum()) / n_st
+            Kv = st._apply(v)
+            st.n_apply += 1
+            if st.force_control and n_st:
+                Kv = Kv - xp.stack([Kv[0][stick].mean(), Kv[1][stick].mean()])[:, None]
+            Jv = Kv.copy()
+            if bool(slip.any()):
+                jt = t[0, slip] * Jv[0, slip] + t[1, slip] * Jv[1, slip]
+                Jv[0, slip] = jt * t[0, slip] + sn[slip] * v[0, slip]
+                Jv[1, slip] = jt * t[1, slip] + sn[slip] * v[1, slip]
+            rv, vq = _dot(r, v), _dot(v, Jv)
+            alpha = 0.0 if abs(rv) < 1e-300 else (rv / vq if abs(vq) > 1e-6 * abs(rv) else 1.0)
+            q += alpha * v
+            if bool(slip.any()):
+                mag = xp.sqrt(q[0, slip] ** 2 + q[1, slip] ** 2)
+                f = b[slip] / xp.where(mag > 0, mag, 1.0)
+                q[0, slip] *= f
+                q[1, slip] *= f
+            st.Kq = st.Kq + alpha * Kv  # linear part only; made exact at the next check
+            s = s + alpha * Kv
+            r = r - alpha * Jv
+            qv_prev = Jv
+            dif = abs(alpha) * float(xp.sqrt((v * v).sum(axis=0).mean()))
+            inner += 1
+            if inner >= self.INNER or dif <= 1e-3 * self.tol * float(b.mean()):
+                inner = 0
+                # Check the element division with the exact slip.
+                mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
+                over = self.stick & (mag > b)
+                changed = bool(over.any())
+                if changed:
+                    f = xp.where(over, b / xp.where(mag > 0, mag, 1.0), 1.0)
+                    q *= f
+                    self.stick = self.stick & ~over
+                if st.force_control:
+                    # Restore the force on the stick nodes; a node pushed beyond its disc slips.
+                    for _ in range(8):
+                        n_st = int(self.stick.sum())
+                        if n_st == 0:
+                            self.fatal = True
+                            return False, it, "no stick node left under force control (gross slip)"
+                        deficit = st.target - np.array([float(q[0].sum()), float(q[1].sum())])
+                        q[0, self.stick] += deficit[0] / n_st
+                        q[1, self.stick] += deficit[1] / n_st
+                        mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
+                        over = self.stick & (mag > b)
+                        if not bool(over.any()):
+                            break
+                        q *= xp.where(over, b / xp.where(mag > 0, mag, 1.0), 1.0)
+                        self.stick = self.stick & ~over
+                        changed = True
+                s = self._exact()
+                if s is None:
+                    self.fatal = True
+                    return False, it, "no stick node left under force control (gross slip)"
+                slipm = ~self.stick
+                back = slipm & ((s[0] * q[0] + s[1] * q[1]) > 0)
+                if bool(back.any()):
+                    self.stick = self.stick | back
+                    # leave them just inside the rim
+                    q[:, back] *= 1.0 - 1e-6
+                    changed = True
+                # Convergence measures (as for the projected gradient).
+                st.stick = self.stick.copy()
+                st.change = float(xp.abs(q - q_outer).sum()) / max(2.0 * float(b.sum()), 1e-300)
+                q_outer = q.copy()
+                st._complementarity()
+                res = max(st.change, st.complementarity / self.s_scale)
+                history.append(res)
+                if res < best_res:
+                    best_res, best_it = res, it
+                    self.best = (res, q.copy(), st.Kq.copy(), np.array(st.delta))
+                elif it - best_it >= min(stall, 400):
+                    return False, it, f"stalled at residual {res:.3e} (best {best_res:.3e})"
+                if res < self.tol and not changed:
+                    return True, it, f"converged in {it} iterations (TangCG)"
+                r = None
+                restart = restart or changed
+                if changed:
+                    v = None
+            else:
+                history.append(history[-1] if history else float("inf"))
+        return False, max_iterations, f"not converged after {max_iterations} iterations"
