@@ -1,7 +1,10 @@
 """PNG figures of a run (matplotlib, Agg, no pyplot state): topography, pressure map, contact
 map, centre-line profile, force-approach curve; for the tangential kinds (partial_slip,
 hysteresis) stick/slip maps with traction arrows, stick ratio and displacement against
-F_x/(mu F0+), and stick ratio against the normal force of a normal-load path.
+F_x/(mu F0+), and stick ratio against the normal force of a normal-load path; for hysteresis
+the loop F_x - delta_x with Paper E's points (A, D, D', H ...), the lateral stiffness at Paper
+F's points A, B, C, the last cycle's dissipation and accumulated-slip maps, and the stick/slip
+maps at Paper E's points in one figure.
 
 Every function takes the fields dataset (:mod:`tribobem.output.fields`) and/or the summary
 dict, so ``tribobem plot RESULT`` re-makes the figures from the files alone.  Units are
@@ -21,12 +24,16 @@ from .summary import atomic_write_bytes
 
 __all__ = ["FIGURE_NAMES", "make_figures", "topography_figure", "pressure_figure", "contact_figure",
            "profile_figure", "force_curve_figure", "stickslip_figure", "stickslip_steps", "stick_ratio_figure",
-           "stick_normal_figure"]
+           "stick_normal_figure", "is_hysteresis", "turning_point_letters", "mindlin_reference",
+           "hysteresis_loop_figure", "lateral_stiffness_figure", "dissipation_figure", "loop_map_steps",
+           "loop_stickslip_figure", "hysteresis_figures"]
 
 #: File stems of the figures, in report order.  ``stickslip`` stands for the stick/slip maps,
-#: one per shown step, named ``stickslip_step<k>`` (k: the step's index in summary.json).
-FIGURE_NAMES = ("force_curve", "stick_ratio", "stick_normal", "stickslip", "pressure", "contact", "profile",
-                "pressure_pulloff", "contact_pulloff", "topography")
+#: one per shown step, named ``stickslip_step<k>`` (k: the step's index in summary.json), or,
+#: for a hysteresis run, one multi-panel ``stickslip_loop`` at Paper E's points (A, D, D' ...);
+#: ``dissipation`` for ``dissipation_cycle<k>`` (hysteresis: maps of the last cycle).
+FIGURE_NAMES = ("hysteresis_loop", "force_curve", "stick_ratio", "stick_normal", "stickslip", "lateral_stiffness",
+                "dissipation", "pressure", "contact", "profile", "pressure_pulloff", "contact_pulloff", "topography")
 
 _DPI = 110
 _COLORS = {"loading": "#1f77b4", "unloading": "#d62728"}
@@ -360,15 +367,32 @@ def stickslip_figure(ds, step: int, path, *, mu: float | None = None, qmax: floa
         Traction (Pa) of the longest arrow; the step's own maximum when omitted (give a common
         value to compare the maps of several steps).
     """
-    from matplotlib.colors import BoundaryNorm, ListedColormap
-    from matplotlib.patches import Patch
+    fig = _figure(5.6, 5.6)
+    ax = fig.add_subplot()
+    handles = _stickslip_axes(ax, ds, step, mu=mu, qmax=qmax)
+    fig.legend(handles=handles, loc="outside lower center", ncols=2, fontsize=8, frameon=False)
+    return _save(fig, path)
 
+
+def _stickslip_masks(ds, step: int):
     p = np.asarray(ds["pressure"].values[step])
     comp = p > 0
     stick = np.asarray(ds["stick"].values[step]).astype(bool) & comp
     slip = comp & ~stick
     tensile = np.asarray(ds["adhesive"].values[step]).astype(bool) | (np.asarray(ds["contact"].values[step]).astype(bool) & ~comp)
     tensile &= ~comp
+    return comp, stick, slip, tensile
+
+
+def _stickslip_axes(ax, ds, step: int, *, mu=None, qmax=None, window=None, letter=None) -> list:
+    """Draw the stick/slip map of ``step`` into ``ax``; returns the legend handles.
+
+    ``window``: (xl, yl, lf, ll), a common zoom (display units) for several panels; ``letter``:
+    a point name (Paper E: A, D, D' ...) that leads a compact two-line title."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    comp, stick, slip, tensile = _stickslip_masks(ds, step)
     code = np.where(stick, 3, np.where(slip, 2, np.where(tensile, 1, 0)))
     qx = np.nan_to_num(np.asarray(ds["shear_x"].values[step], dtype=float))
     qy = np.nan_to_num(np.asarray(ds["shear_y"].values[step], dtype=float))
@@ -376,14 +400,15 @@ def stickslip_figure(ds, step: int, path, *, mu: float | None = None, qmax: floa
 
     x = np.asarray(ds["x"].values)
     y = np.asarray(ds["y"].values)
-    active = comp | tensile
-    lf0, _ = display_unit(np.abs(x) * 2, "length")
-    xl, yl = _zoom_window(ds, active, lf0)
-    lf, ll = display_unit([max(abs(v) for v in (*xl, *yl)) * lf0 * 1.0001], "length")
-    xl, yl = tuple(v * lf0 / lf for v in xl), tuple(v * lf0 / lf for v in yl)
+    if window is None:
+        active = comp | tensile
+        lf0, _ = display_unit(np.abs(x) * 2, "length")
+        xl, yl = _zoom_window(ds, active, lf0)
+        lf, ll = display_unit([max(abs(v) for v in (*xl, *yl)) * lf0 * 1.0001], "length")
+        xl, yl = tuple(v * lf0 / lf for v in xl), tuple(v * lf0 / lf for v in yl)
+    else:
+        xl, yl, lf, ll = window
 
-    fig = _figure(5.6, 5.6)
-    ax = fig.add_subplot()
     ax.imshow(code.T, origin="lower", extent=_extent(ds, lf), cmap=ListedColormap(list(_STICKSLIP_COLORS)),
               norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4), interpolation="nearest")
     if comp.any() and 0 < comp.sum() < comp.size:
@@ -396,7 +421,8 @@ def stickslip_figure(ds, step: int, path, *, mu: float | None = None, qmax: floa
         ix = np.nonzero(comp.any(axis=1))[0]
         iy = np.nonzero(comp.any(axis=0))[0]
         diam = max(ix[-1] - ix[0], iy[-1] - iy[0]) + 1
-        stride = max(1, int(round(diam / _ARROWS_PER_DIAMETER)))
+        per = _ARROWS_PER_DIAMETER if letter is None else 15
+        stride = max(1, int(round(diam / per)))
         cx, cy = (ix[0] + ix[-1]) // 2, (iy[0] + iy[-1]) // 2
         sel = np.zeros_like(comp)
         sel[cx % stride::stride, cy % stride::stride] = True
@@ -405,11 +431,11 @@ def stickslip_figure(ds, step: int, path, *, mu: float | None = None, qmax: floa
         scale = qtop / (0.9 * stride * dxl)  # Pa per display length: the longest arrow spans 0.9 strides
         X, Y = np.meshgrid(x / lf, y / lf, indexing="ij")
         qv = ax.quiver(X[sel], Y[sel], qx[sel], qy[sel], angles="xy", scale_units="xy", scale=scale,
-                       color="#1b1b1b", width=0.0042, headwidth=3.6, headlength=4.0, headaxislength=3.6,
-                       pivot="middle", zorder=3)
+                       color="#1b1b1b", width=0.0042 if letter is None else 0.0055, headwidth=3.6, headlength=4.0,
+                       headaxislength=3.6, pivot="middle", zorder=3)
         qf, ql = display_unit([qtop], "pressure")
-        qkey = ax.quiverkey(qv, 0.04, 0.955, qtop, f"|q| = {qtop / qf:.3g} {ql}", labelpos="E", coordinates="axes",
-                            fontproperties={"size": 8})
+        qkey = ax.quiverkey(qv, 0.04 if letter is None else 0.1, 0.955, qtop, f"|q| = {qtop / qf:.3g} {ql}",
+                            labelpos="E", coordinates="axes", fontproperties={"size": 8 if letter is None else 7})
         qkey.set_zorder(4)
 
     cell = float(ds.attrs.get("dx", 1.0)) * float(ds.attrs.get("dy", 1.0))
@@ -423,12 +449,14 @@ def stickslip_figure(ds, step: int, path, *, mu: float | None = None, qmax: floa
         share = f" ({100.0 * mask.sum() / n_comp:.0f} %)" if n_comp else ""
         return f"{mask.sum() * cell / af:.3g} {al}{share}"
 
-    handles = [Patch(color=_STICKSLIP_COLORS[3], label=f"stick: {area(stick)}"),
-               Patch(color=_STICKSLIP_COLORS[2], label=f"slip: {area(slip)}")]
+    if letter is None:
+        handles = [Patch(color=_STICKSLIP_COLORS[3], label=f"stick: {area(stick)}"),
+                   Patch(color=_STICKSLIP_COLORS[2], label=f"slip: {area(slip)}")]
+    else:
+        handles = [Patch(color=_STICKSLIP_COLORS[3], label="stick"), Patch(color=_STICKSLIP_COLORS[2], label="slip")]
     if np.any(np.asarray(ds["adhesive"].values)):
         handles.append(Patch(color=_STICKSLIP_COLORS[1], label="tensile zone, p < 0 (no shear)"))
     handles.append(Patch(facecolor=_STICKSLIP_COLORS[0], edgecolor="0.6", label="no contact"))
-    fig.legend(handles=handles, loc="outside lower center", ncols=2, fontsize=8, frameon=False)
 
     ax.set_xlim(*xl)
     ax.set_ylim(*yl)
@@ -440,10 +468,23 @@ def stickslip_figure(ds, step: int, path, *, mu: float | None = None, qmax: floa
     fy = _num(ds["tangential_force_y"].values[step]) or 0.0
     fn = float(ds["normal_force"].values[step])
     ratio = n_comp and float(np.count_nonzero(stick)) / n_comp
+    f0 = _repulsive_force(ds, step)
+    if letter is not None:  # compact: "D'  step 7: F_x/(mu F0+) = 0.773" / "F_x = 2.32 N, stick 1.000"
+        ax.text(0.97, 0.96, f"$\\mathbf{{{_tex_letter(letter)}}}$", transform=ax.transAxes, ha="right", va="top",
+                fontsize=15, fontweight="bold", zorder=6,
+                bbox={"boxstyle": "round,pad=0.2", "fc": "w", "ec": "0.6", "alpha": 0.9})
+        line1 = f"step {_step_number(ds, step)}"
+        if fx is not None and abs(fx) <= 1e-9 * max(mu * f0 if mu else 0.0, abs(fn), 1e-300):
+            fx = 0.0  # round-off at the start (F_x = 0)
+        if mu is not None and f0 > 0 and fx is not None:
+            line1 += rf": $F_x/(\mu F_0^+)$ = {fx / (mu * f0):.3f}"
+        line2 = f"$F_x$ = {format_quantity(fx, 'force', 3)}, " if fx is not None else ""
+        line2 += f"stick ratio {ratio:.3f}" if n_comp else "no compressive contact"
+        ax.set_title(f"{line1}\n{line2}", fontsize=9)
+        return handles
     line1 = f"step {_step_number(ds, step)}: $F$ = {format_quantity(fn, 'force', 3)}"
     if fx is not None:
         line1 += f", $F_x$ = {format_quantity(fx, 'force', 3)}"
-    f0 = _repulsive_force(ds, step)
     if mu is not None and f0 > 0 and fx is not None:
         if abs(fy) > 1e-9 * max(abs(fx), 1e-300):
             line2 = rf"$|F_t|/(\mu F_0^+)$ = {np.hypot(fx, fy) / (mu * f0):.3f}"
@@ -453,7 +494,7 @@ def stickslip_figure(ds, step: int, path, *, mu: float | None = None, qmax: floa
         line2 = ""
     line2 += ("," if line2 else "") + f" stick ratio {ratio:.3f}" if n_comp else " no compressive contact"
     ax.set_title(f"{line1}\n{line2.strip()}", fontsize=10)
-    return _save(fig, path)
+    return handles
 
 
 def _rows_with(summary: dict, *keys) -> list[dict]:
@@ -516,6 +557,8 @@ def stick_ratio_figure(summary: dict, path) -> Path | None:
     rows = _rows_with(summary, "tangential_force_x", "stick_ratio")
     if len(rows) < 2:
         return None
+    if is_hysteresis(summary):  # the start (F_x = 0) opens the initial loading: no line of its own
+        rows = [dict(r, branch="loading") if r.get("branch") == "start" else r for r in rows]
     fx = np.array([float(r["tangential_force_x"]) for r in rows])
     if not np.any(fx != 0):
         return None
@@ -610,6 +653,559 @@ def stick_normal_figure(summary: dict, path) -> Path | None:
     return _save(fig, path)
 
 
+# ---------------------------------------------------------------------------------------------
+# hysteresis (Papers E and F)
+
+_CYCLE_COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf")
+_BRANCH_MARKERS = {"start": "o", "loading": "o", "unloading": "v", "reloading": "^"}
+#: Paper E's names of the turning points, in order (A is the start; the step after a point is
+#: primed: A', D', H' ...).
+_TURNING_LETTERS = "DHLPTX"
+_MAX_LOOP_MAPS = 6
+
+
+def _tex_letter(letter: str) -> str:
+    """A point name for mathtext (which renders ' as a prime)."""
+    return letter.replace("_", r"\_")
+
+
+def is_hysteresis(summary: dict | None) -> bool:
+    """True for a hysteresis run: ``kind`` says so, or the step rows carry a ``cycle``."""
+    s = summary or {}
+    if s.get("kind") == "hysteresis":
+        return True
+    return any(isinstance(r, dict) and "cycle" in r for r in s.get("steps") or [])
+
+
+def turning_point_letters(rows: list) -> dict:
+    """Paper E's names of the summary rows: the start A (F_x = 0, row 0), the turning points
+    D, H, L, P, T, X (then TP7, TP8 ...) -- the last row of each branch -- and the row right
+    after each of them primed (A', D', H' ...).
+
+    Returns
+    -------
+    dict
+        Row index -> letter.
+    """
+    out = {}
+    n = len(rows)
+    if n == 0:
+        return out
+    out[0] = "A"
+    if n > 1:
+        out[1] = "A'"
+    k = 0
+    for i in range(1, n):
+        b = rows[i].get("branch")
+        if b == "start":
+            continue
+        key = (b, rows[i].get("cycle"))
+        nxt = (rows[i + 1].get("branch"), rows[i + 1].get("cycle")) if i + 1 < n else None
+        if nxt != key:
+            k += 1
+            name = _TURNING_LETTERS[k - 1] if k <= len(_TURNING_LETTERS) else f"TP{k}"
+            out[i] = name
+            if i + 1 < n:
+                out[i + 1] = name + "'"
+    return out
+
+
+def _hysteresis_rows(summary: dict) -> list[dict]:
+    rows = _rows_with(summary, "tangential_force_x", "displacement_x")
+    return rows if len(rows) >= 3 else []
+
+
+def _cycle_of(r) -> int:
+    c = _num(r.get("cycle"))
+    return int(c) if c is not None else 0
+
+
+def _shear_moduli(summary: dict):
+    """(1/G, nu) per body from the scenario echo; 1/G = 0 for a rigid body; None when unknown."""
+    inp = (summary or {}).get("inputs") or {}
+    out = []
+    for name in ("body1", "body2"):
+        b = inp.get(name)
+        if not isinstance(b, dict):
+            return None
+        if b.get("rigid"):
+            out.append((0.0, 0.5))
+            continue
+        E, nu = _num(b.get("E")), _num(b.get("nu"))
+        if E is None or nu is None or E <= 0:
+            return None
+        out.append((2.0 * (1.0 + nu) / E, nu))
+    return out
+
+
+def _smooth(summary: dict) -> bool:
+    inp = (summary or {}).get("inputs") or {}
+    for name in ("body1", "body2"):
+        r = (inp.get(name) or {}).get("roughness") or {}
+        if isinstance(r, dict) and r.get("kind", "none") not in ("none", None):
+            return False
+    return True
+
+
+def mindlin_reference(summary: dict) -> dict | None:
+    """The Mindlin-Deresiewicz loop of the run (SPEC 7), when it applies: smooth bodies with
+    no normal-tangential coupling (identical materials, or beta = 0), a peak force below
+    mu F0+, F0+ and the compressive contact area of the start row known.
+
+    Returns
+    -------
+    dict or None
+        ``delta0`` (m), ``mu_p`` (mu F0+, N), ``peak`` (Q*, N), ``offset`` (delta_x of the start,
+        m), ``radius`` (a, m), ``compliance`` (k = sum (2 - nu)/G, 1/Pa) and ``energy`` (the loop
+        area per cycle, J).
+    """
+    rows = _hysteresis_rows(summary)
+    mu = _friction_coefficient(summary)
+    bodies = _shear_moduli(summary)
+    if not rows or mu is None or bodies is None or not _smooth(summary):
+        return None
+    (c1, n1), (c2, n2) = bodies
+    beta = (1.0 - 2.0 * n1) * c1 - (1.0 - 2.0 * n2) * c2
+    k = (2.0 - n1) * c1 + (2.0 - n2) * c2
+    if k <= 0 or abs(beta) > 1e-6 * k:
+        return None
+    start = rows[0]
+    P = _num(start.get("repulsive_force"))
+    area = _num(start.get("contact_area_compressive")) or _num(start.get("contact_area"))
+    if P is None or area is None or P <= 0 or area <= 0:
+        return None
+    a = float(np.sqrt(area / np.pi))
+    mu_p = mu * P
+    peak = _num(summary.get("peak_force"))
+    if peak is None:
+        peak = float(max(abs(float(r["tangential_force_x"])) for r in rows))
+    if not (0 < peak < mu_p * (1 - 1e-9)):
+        return None
+    r = peak / mu_p
+    energy = 9.0 * mu**2 * P**2 * k / (10.0 * a) * (1.0 - (1.0 - r) ** (5.0 / 3.0)
+                                                     - 5.0 * r / 6.0 * (1.0 + (1.0 - r) ** (2.0 / 3.0)))
+    return {"delta0": 3.0 * mu_p * k / (16.0 * a), "mu_p": mu_p, "peak": peak,
+            "offset": float(start["displacement_x"]), "radius": a, "compliance": k, "energy": energy}
+
+
+def _mindlin_branches(ref: dict, n: int = 120):
+    """(F, delta) of the Mindlin-Deresiewicz initial loading, unloading and reloading (m, N)."""
+    d0, mp, qs, off = ref["delta0"], ref["mu_p"], ref["peak"], ref["offset"]
+    base = (1.0 - qs / mp) ** (2.0 / 3.0)
+    q = np.linspace(0.0, qs, n)
+    load = d0 * (1.0 - (1.0 - q / mp) ** (2.0 / 3.0))
+    qu = np.linspace(qs, -qs, 2 * n)
+    unload = d0 * (2.0 * (1.0 - (qs - qu) / (2.0 * mp)) ** (2.0 / 3.0) - base - 1.0)
+    reload = -d0 * (2.0 * (1.0 - (qs + qu[::-1]) / (2.0 * mp)) ** (2.0 / 3.0) - base - 1.0)
+    return [(q, load + off), (qu, unload + off), (qu[::-1], reload + off)]
+
+
+def hysteresis_loop_figure(summary: dict, path) -> Path | None:
+    """Friction hysteresis loop F_x against delta_x, one colour per cycle (cycle 0, the initial
+    loading, dashed), Paper E's points marked (A, A', turning points D, H, L ... and D', H' ...),
+    the Mindlin-Deresiewicz loop overlaid when it applies (:func:`mindlin_reference`); below,
+    the stick ratio along the path against the step index, markers by branch.  None when the
+    rows lack F_x or delta_x."""
+    rows = _hysteresis_rows(summary)
+    if not rows:
+        return None
+    F = np.array([float(r["tangential_force_x"]) for r in rows])
+    D = np.array([float(r["displacement_x"]) for r in rows])
+    if not np.any(F != 0):
+        return None
+    cyc = np.array([_cycle_of(r) for r in rows])
+    branch = [str(r.get("branch") or "") for r in rows]
+    sr = np.array([_num(r.get("stick_ratio")) if _num(r.get("stick_ratio")) is not None else np.nan for r in rows])
+    letters = turning_point_letters(rows)
+    ref = mindlin_reference(summary)
+    extra_d = [D.min(), D.max()]
+    ff, fl = display_unit(F, "force")
+    df, dl = display_unit(np.concatenate([D - D[0], extra_d]), "length")
+    has_sr = np.isfinite(sr).sum() >= 2
+
+    fig = _figure(6.6, 8.4 if has_sr else 5.4)
+    if has_sr:
+        ax, ax2 = fig.subplots(2, 1, height_ratios=[1.7, 1.0])
+    else:
+        ax, ax2 = fig.add_subplot(), None
+    ms = 3.5 if len(rows) <= 120 else 0
+    segs = _segments(rows)
+    seen = set()
+    for b, idx in segs:
+        c = int(cyc[idx[-1]])
+        color = _CYCLE_COLORS[c % len(_CYCLE_COLORS)]
+        lab = None
+        if c not in seen:
+            lab = "cycle 0 (initial loading)" if c == 0 else f"cycle {c}"
+            seen.add(c)
+        ax.plot(D[idx] / df, F[idx] / ff, color=color, lw=1.5, ls="--" if c == 0 else "-",
+                marker=_BRANCH_MARKERS.get(b, "o") if ms else None, ms=ms, label=lab, zorder=2)
+    if ref is not None:
+        for k, (q, d) in enumerate(_mindlin_branches(ref)):
+            ax.plot(d / df, q / ff, color="0.55", lw=6, alpha=0.35, solid_capstyle="round", zorder=1,
+                    label="Mindlin-Deresiewicz (analytic)" if k == 0 else None)
+    conv = np.array([bool(r.get("converged", True)) for r in rows])
+    if (~conv).any():
+        ax.plot(D[~conv] / df, F[~conv] / ff, "x", color="k", ms=8, mew=1.5, label="not converged", zorder=4)
+    ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
+    ax.axvline(0.0, color="0.6", lw=0.6, zorder=0)
+    ax.margins(x=0.1, y=0.1)
+    _label_points(ax, D / df, F / ff, letters)
+    ax.set_xlabel(f"tangential displacement $\\delta_x$ ({dl})")
+    ax.set_ylabel(f"tangential force $F_x$ ({fl})")
+    ax.grid(alpha=0.3)
+    mu = _friction_coefficient(summary)
+    f0p = _num(summary.get("repulsive_force")) or _num(rows[0].get("repulsive_force"))
+    if mu is not None and f0p is not None and f0p > 0:
+        sec = ax.secondary_yaxis("right", functions=(lambda v, s=ff / (mu * f0p): v * s,
+                                                     lambda v, s=ff / (mu * f0p): v / s))
+        sec.set_ylabel(r"$F_x\,/\,(\mu F_0^+)$")
+    handles, labels = ax.get_legend_handles_labels()
+    if ms and len(set(branch) - {"start"}) > 1:
+        from matplotlib.lines import Line2D
+
+        for b, m in (("unloading", "v"), ("reloading", "^")):
+            if b in branch:
+                handles.append(Line2D([], [], color="0.3", marker=m, ls="none", ms=5))
+                labels.append(b)
+    ax.legend(handles, labels, fontsize=8, loc="upper left", framealpha=0.9)
+    title = "friction hysteresis loop"
+    peak = _num(summary.get("peak_force"))
+    if peak is not None and mu is not None and f0p:
+        title += f", $F^*$ = {format_quantity(peak, 'force', 3)} = {peak / (mu * f0p):.3g} $\\mu F_0^+$"
+    else:
+        path_in = (((summary.get("inputs") or {}).get("friction") or {}).get("path") or {})
+        stroke = _num(path_in.get("stroke")) if isinstance(path_in, dict) else None
+        if stroke is not None:
+            title += f", displacement control, stroke {format_quantity(stroke, 'length', 3)}"
+    ax.set_title(title, fontsize=10)
+
+    if ax2 is not None:
+        k = np.arange(len(rows))
+        for b, idx in segs:
+            c = int(cyc[idx[-1]])
+            color = _CYCLE_COLORS[c % len(_CYCLE_COLORS)]
+            ax2.plot(k[idx], sr[idx], color=color, lw=1.4, ls="--" if c == 0 else "-",
+                     marker=_BRANCH_MARKERS.get(b, "o") if ms else None, ms=ms)
+        # turning points (and A): a dotted line, the name along the top; primed points: beside them
+        for i, name in letters.items():
+            if name.endswith("'"):
+                if np.isfinite(sr[i]):
+                    ax2.annotate(name, (i, sr[i]), xytext=(5, 0), textcoords="offset points", fontsize=8,
+                                 fontweight="bold", ha="left", va="center", color="0.15")
+                continue
+            if name != "A":
+                ax2.axvline(i, color="0.5", lw=0.7, ls=":", zorder=0)
+            ax2.text(i, 1.075, name, ha="center", va="center", fontsize=8, fontweight="bold", color="0.15")
+        ax2.set_ylim(-0.03, 1.13)
+        ax2.set_xlim(-0.04 * len(rows) - 0.5, 1.02 * len(rows) - 0.5)
+        ax2.set_xlabel("step (summary.json index)")
+        ax2.set_ylabel(r"stick ratio $A_\mathrm{stick}/A_\mathrm{c}$")
+        ax2.grid(alpha=0.3)
+        ax2.set_title("stick ratio along the path (\u25bc unloading, \u25b2 reloading)" if ms
+                      else "stick ratio along the path", fontsize=9)
+    return _save(fig, path)
+
+
+def _label_points(ax, x, y, letters: dict) -> None:
+    """Mark and name Paper E's points on the loop: A a square, turning points filled, primed
+    points open.  Turning points are named away from the loop's centre; a primed point (on the
+    next branch, just after its turning point) outside that branch: below right after a
+    maximum, above left after a minimum.  Points drawn at the same place share one name
+    ("D, L")."""
+    xs = np.ptp(x) or 1.0
+    ys = np.ptp(y) or 1.0
+    cy = 0.5 * (y.max() + y.min())
+    groups = []  # [(index, [names])], merged when within 1 % of the loop's size
+    for i, name in sorted(letters.items()):
+        for g in groups:
+            j = g[0]
+            if (abs(x[i] - x[j]) < 0.05 * xs and abs(y[i] - y[j]) < 0.05 * ys
+                    and g[1][0].endswith("'") == name.endswith("'")):
+                g[1].append(name)
+                g[2].append(i)
+                break
+        else:
+            groups.append((i, [name], [i]))
+    for i, names, members in groups:
+        name = names[0]
+        prime = name.endswith("'")
+        if name == "A":
+            ax.plot(x[i], y[i], "s", ms=7, mfc="w", mec="k", mew=1.2, zorder=5)
+        elif prime:
+            ax.plot(x[members], y[members], "o", ms=6, mfc="w", mec="k", mew=1.0, ls="none", zorder=5)
+        else:
+            ax.plot(x[members], y[members], "o", ms=6, mfc="k", mec="k", ls="none", zorder=5)
+        up = y[i] >= cy
+        if name == "A":
+            off, ha = (0, -13), "center"
+        elif name == "A'":
+            off, ha = (-8, 9), "right"
+        elif prime:
+            off, ha = ((9, -9), "left") if up else ((-9, 9), "right")
+        else:  # above a maximum, below a minimum
+            off, ha = ((0, 12), "center") if up else ((0, -12), "center")
+        ax.annotate(", ".join(names), (x[i], y[i]), xytext=off, textcoords="offset points", fontsize=10,
+                    fontweight="bold", ha=ha, va="center", zorder=6,
+                    bbox={"boxstyle": "round,pad=0.1", "fc": "w", "ec": "none", "alpha": 0.7})
+
+
+def _stiffness_unit(values):
+    a = np.abs(np.asarray(values, dtype=float))
+    a = a[np.isfinite(a) & (a > 0)]
+    peak = float(a.max()) if a.size else 1.0
+    for label, f in (("N/\u00b5m", 1e6), ("N/mm", 1e3), ("N/m", 1.0)):
+        if peak >= f:
+            return f, label
+    return 1.0, "N/m"
+
+
+def _stiffness_table(summary: dict) -> list[dict]:
+    out = []
+    for t in (summary or {}).get("lateral_stiffness") or []:
+        if isinstance(t, dict) and _num(t.get("force_ratio")) is not None and _num(t.get("stiffness")) is not None:
+            out.append(t)
+    return out
+
+
+def _last_reloading_branch(summary: dict):
+    """(F, delta) of the last reloading branch from its turning point (the fit's data, N and m,
+    both from the turning point: F[0] = -F*), or None."""
+    rows = _hysteresis_rows(summary)
+    idx = [i for i, r in enumerate(rows) if r.get("branch") == "reloading"]
+    if not idx:
+        return None
+    last = max(_cycle_of(rows[i]) for i in idx)
+    br = [i for i in idx if _cycle_of(rows[i]) == last]
+    if br[0] == 0:
+        return None
+    sel = [br[0] - 1] + br
+    F = np.array([float(rows[i]["tangential_force_x"]) for i in sel])
+    D = np.array([float(rows[i]["displacement_x"]) for i in sel])
+    return F, D
+
+
+def lateral_stiffness_figure(summary: dict, path) -> Path | None:
+    """Lateral stiffness K_L against F_x/(mu F0+) at Paper F's points A, B, C (on the last
+    branch from -F* to +F*): the fit of Paper F Eq. 3 (markers, and the fitted curve along the
+    branch), the Mindlin-Deresiewicz branch slope through the same turning point, and Paper F
+    Eq. 6's virgin-curve value.  None without ``summary["lateral_stiffness"]``."""
+    table = _stiffness_table(summary)
+    if not table:
+        return None
+    xr = np.array([float(t["force_ratio"]) for t in table])
+    kfit = np.array([float(t["stiffness"]) for t in table])
+    kmd = np.array([_num(t.get("mindlin_stiffness")) if _num(t.get("mindlin_stiffness")) is not None else np.nan
+                    for t in table])
+    kvir = np.array([_num(t.get("virgin_stiffness")) if _num(t.get("virgin_stiffness")) is not None else np.nan
+                     for t in table])
+    mu = _friction_coefficient(summary)
+    f0p = _num(summary.get("repulsive_force"))
+    if f0p is None:
+        rows = _hysteresis_rows(summary)
+        f0p = _num(rows[0].get("repulsive_force")) if rows else None
+    curves = {}
+    branch = _last_reloading_branch(summary)
+    fit = summary.get("lateral_stiffness_fit") or {}
+    if branch is not None and mu is not None and f0p and all(_num(fit.get(k)) is not None for k in ("c1", "c2", "n")):
+        c1, c2, n = float(fit["c1"]), float(fit["c2"]), float(fit["n"])
+        Fb, Db = branch
+        Ft = float(Fb[0])
+        # K of the fit at the branch's own displacement for each force (as the table's points)
+        f = np.linspace(Fb.min(), Fb.max(), 200)
+        order = np.argsort(Fb)
+        d = np.interp(f, Fb[order], Db[order]) - Db[0]
+        base = np.clip(1.0 - c2 * d, 1e-12, None)
+        curves["fit"] = (f / (mu * f0p), c1 * c2 * n * base ** (n - 1.0))
+        # exact branch slope and virgin-curve slope from their K0 (taken from the table)
+        fs = -Ft
+        mp = mu * f0p
+        grid = np.linspace(-fs, fs, 200) / mp
+        for key, vals, law in (("mindlin", kmd, lambda r: np.clip(1.0 - (fs / mp + r) / 2.0, 0, None) ** (1 / 3)),
+                               ("virgin", kvir, lambda r: np.clip(1.0 - np.abs(r), 0, None) ** (1 / 3))):
+            ok = np.isfinite(vals) & (law(xr) > 1e-6)
+            if ok.any():
+                k0 = float(np.median(vals[ok] / law(xr[ok])))
+                curves[key] = (grid, k0 * law(grid))
+    allk = np.concatenate([kfit, kmd, kvir] + [c[1] for c in curves.values()])
+    kf, kl = _stiffness_unit(allk)
+    fig = _figure(6.2, 4.6)
+    ax = fig.add_subplot()
+    handles, labels = [], []
+    pts = ax.plot(xr, kfit / kf, "o", ms=9, color="#1f77b4", mec="k", zorder=5)[0]
+    if "fit" in curves:
+        line = ax.plot(curves["fit"][0], curves["fit"][1] / kf, color="#1f77b4", lw=1.0, alpha=0.7)[0]
+        handles.append((line, pts))
+    else:
+        handles.append(pts)
+    labels.append("fit of the simulated branch (Paper F Eq. 3)")
+    if np.isfinite(kmd).any():
+        if "mindlin" in curves:
+            ax.plot(curves["mindlin"][0], curves["mindlin"][1] / kf, color="#d62728", lw=1.4,
+                    label="Mindlin-Deresiewicz branch slope")
+            ax.plot(xr, kmd / kf, "D", ms=5, color="#d62728", zorder=4)
+        else:
+            ax.plot(xr, kmd / kf, "-D", ms=5, color="#d62728", lw=1.4, label="Mindlin-Deresiewicz branch slope")
+    if np.isfinite(kvir).any():
+        if "virgin" in curves:
+            ax.plot(curves["virgin"][0], curves["virgin"][1] / kf, color="#2a9d8f", lw=1.2, ls="--",
+                    label="virgin curve (Paper F Eq. 6)")
+            ax.plot(xr, kvir / kf, "s", ms=5, mfc="w", mec="#2a9d8f", mew=1.3, zorder=4)
+        else:
+            ax.plot(xr, kvir / kf, "--s", ms=5, color="#2a9d8f", mfc="w", lw=1.2, label="virgin curve (Paper F Eq. 6)")
+    top = np.nanmax(allk / kf)
+    for t, x, k in zip(table, xr, kfit):
+        ax.annotate(str(t.get("point", "")), (x, k / kf), xytext=(0, 11), textcoords="offset points",
+                    ha="center", fontsize=11, fontweight="bold")
+    ax.set_ylim(0, top * 1.18)
+    ax.set_xlabel(r"$F_x\,/\,(\mu F_0^+)$ on the last branch from $-F^*$ to $+F^*$")
+    ax.set_ylabel(f"lateral stiffness $K_L$ ({kl})")
+    ax.grid(alpha=0.3)
+    h2, l2 = ax.get_legend_handles_labels()
+    ax.legend(handles + h2, labels + l2, fontsize=8, loc="lower left", framealpha=0.9)
+    ax.set_title("lateral stiffness at Paper F's points A, B, C", fontsize=10)
+    return _save(fig, path)
+
+
+def _cycle_maps(ds):
+    if ds is None or "dissipation" not in ds or "cycle" not in ds["dissipation"].dims:
+        return None
+    if ds.sizes.get("cycle", 0) == 0:
+        return None
+    return ds
+
+
+def dissipation_figure(ds, path, cycle_index: int = -1, *, work: float | None = None) -> Path | None:
+    """Frictional dissipation (J/m^2) and accumulated slip (nm) of one cycle, zoomed to the
+    contact (nodes that never carried compressive contact are blank).  None when the fields
+    have no per-cycle maps."""
+    if _cycle_maps(ds) is None:
+        return None
+    w = np.asarray(ds["dissipation"].values[cycle_index], dtype=float)
+    s = np.asarray(ds["accumulated_slip"].values[cycle_index], dtype=float) if "accumulated_slip" in ds else None
+    cyc = int(ds["cycle"].values[cycle_index]) if "cycle" in ds.coords else cycle_index
+    x = np.asarray(ds["x"].values)
+    y = np.asarray(ds["y"].values)
+    contact = np.zeros(w.shape, dtype=bool)
+    if "pressure" in ds and ds.sizes.get("step", 0):
+        contact = np.any(np.asarray(ds["pressure"].values) > 0, axis=0)
+    contact |= w > 0
+    lf0, _ = display_unit(np.abs(x) * 2, "length")
+    xl, yl = _zoom_window(ds, contact, lf0)
+    lf, ll = display_unit([max(abs(v) for v in (*xl, *yl)) * lf0 * 1.0001], "length")
+    xl, yl = tuple(v * lf0 / lf for v in xl), tuple(v * lf0 / lf for v in yl)
+    wmax = float(np.max(np.where(contact, w, 0.0))) if contact.any() else 0.0
+    wf, wl = next(((f, u) for f, u in ((1.0, "J/m$^2$"), (1e-3, "mJ/m$^2$"), (1e-6, "\u00b5J/m$^2$"))
+                   if wmax >= f), (1e-9, "nJ/m$^2$"))
+    if wmax <= 0:
+        wf, wl = 1.0, "J/m$^2$"
+    panels = [("dissipation", np.where(contact, np.clip(w, 0, None), np.nan), wf, wl, "inferno_r",
+               "frictional dissipation $-\\sum\\, q\\cdot\\Delta s$")]
+    if s is not None:
+        smax = float(np.nanmax(np.where(contact, s, np.nan))) if contact.any() else 0.0
+        sf, sl = (1e-9, "nm") if smax < 1e-5 else (1e-6, "\u00b5m")
+        panels.append(("slip", np.where(contact, s, np.nan), sf, sl, "viridis",
+                       "accumulated slip $\\sum |\\Delta s|$"))
+    fig = _figure(5.0 * len(panels), 4.6)
+    axes = fig.subplots(1, len(panels), squeeze=False)[0]
+    for ax, (_, data, f, unit, cmap, title) in zip(axes, panels):
+        im = ax.imshow(data.T / f, origin="lower", extent=_extent(ds, lf), cmap=cmap, interpolation="nearest")
+        if contact.any() and contact.sum() < contact.size:
+            ax.contour(x / lf, y / lf, contact.T.astype(float), levels=[0.5], colors="0.3", linewidths=0.6)
+        ax.set_xlim(*xl)
+        ax.set_ylim(*yl)
+        ax.set_aspect("equal")
+        ax.set_xlabel(f"x ({ll})")
+        ax.set_ylabel(f"y ({ll})")
+        ax.set_title(title, fontsize=10)
+        fig.colorbar(im, ax=ax, shrink=0.85, label=f"({unit})")
+    head = f"cycle {cyc}"
+    if work is not None:
+        head += f": dissipated energy {format_quantity(work, 'energy', 3)} (traction work)"
+    fig.suptitle(head, fontsize=10)
+    return _save(fig, path)
+
+
+def loop_map_steps(ds, summary: dict) -> list[tuple[int, str]]:
+    """The dataset steps of a hysteresis run to show as stick/slip maps, with Paper E's names:
+    at most six, A, D, D' and the last turning points (for one cycle: A, D, D', H, H', L).
+    Empty when the dataset steps cannot be named (no ``summary_step``, no rows)."""
+    steps = _tangential_step_indices(ds) if ds is not None else []
+    rows = (summary or {}).get("steps") or []
+    if not steps or not rows or "summary_step" not in ds.coords:
+        return []
+    letters = turning_point_letters(rows)
+    named = []
+    for i in steps:
+        k = int(ds["summary_step"].values[i])
+        if k in letters:
+            named.append((i, letters[k]))
+    if len(named) <= _MAX_LOOP_MAPS:
+        return named
+    head = [p for p in named if p[1] in ("A", "D", "D'")][:3]
+    rest = [p for p in named if p not in head]
+    return head + rest[-(_MAX_LOOP_MAPS - len(head)):]
+
+
+def loop_stickslip_figure(ds, picks, path, *, mu=None) -> Path:
+    """Stick/slip maps at Paper E's points (``picks``: (dataset step, name)), one panel each
+    (up to three per row), on a common zoom and a common traction scale."""
+    x = np.asarray(ds["x"].values)
+    active = np.zeros((ds.sizes["x"], ds.sizes["y"]), dtype=bool)
+    for i, _ in picks:
+        comp, _s, _sl, tensile = _stickslip_masks(ds, i)
+        active |= comp | tensile
+    lf0, _ = display_unit(np.abs(x) * 2, "length")
+    xl, yl = _zoom_window(ds, active, lf0)
+    lf, ll = display_unit([max(abs(v) for v in (*xl, *yl)) * lf0 * 1.0001], "length")
+    xl, yl = tuple(v * lf0 / lf for v in xl), tuple(v * lf0 / lf for v in yl)
+    qmax = max(float(np.nanmax(np.hypot(np.nan_to_num(ds["shear_x"].values[i]),
+                                        np.nan_to_num(ds["shear_y"].values[i])))) for i, _ in picks)
+    ncol = min(3, len(picks))
+    nrow = -(-len(picks) // ncol)
+    fig = _figure(3.9 * ncol, 3.9 * nrow + 0.5)
+    axes = fig.subplots(nrow, ncol, squeeze=False)
+    handles = []
+    for ax, (i, name) in zip(axes.flat, picks):
+        handles = _stickslip_axes(ax, ds, i, mu=mu, qmax=qmax or None, window=(xl, yl, lf, ll), letter=name)
+    for ax in list(axes.flat)[len(picks):]:
+        ax.set_visible(False)
+    for r in range(nrow):
+        for c in range(ncol):
+            if c > 0:
+                axes[r, c].set_ylabel("")
+            if r < nrow - 1 and (r + 1) * ncol + c < len(picks):
+                axes[r, c].set_xlabel("")
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=9, frameon=False)
+    return _save(fig, path)
+
+
+def hysteresis_figures(ds, summary: dict, outdir) -> dict:
+    """The hysteresis figures that apply: ``hysteresis_loop``, ``lateral_stiffness``,
+    ``dissipation_cycle<k>`` (last cycle) and ``stickslip_loop`` (maps at Paper E's points)."""
+    outdir = Path(outdir)
+    out = {}
+    safe = (KeyError, TypeError, ValueError, IndexError)
+    for name, func in (("hysteresis_loop", hysteresis_loop_figure), ("lateral_stiffness", lateral_stiffness_figure)):
+        try:
+            fig = func(summary, outdir / f"{name}.png")
+        except safe:  # never fail a run on a figure
+            fig = None
+        if fig is not None:
+            out[name] = fig
+    if _cycle_maps(ds) is not None:
+        cyc = int(ds["cycle"].values[-1]) if "cycle" in ds.coords else ds.sizes["cycle"] - 1
+        works = (summary or {}).get("dissipation_work") or []
+        work = _num(works[-1]) if works else None
+        try:
+            fig = dissipation_figure(ds, outdir / f"dissipation_cycle{cyc}.png", -1, work=work)
+        except safe:
+            fig = None
+        if fig is not None:
+            out[f"dissipation_cycle{cyc}"] = fig
+    return out
+
+
 def _constant_normal_force(summary: dict) -> bool:
     """True for a tangential run at a fixed normal force (the force curve says nothing)."""
     rows = _rows_with(summary, "normal_force")
@@ -641,7 +1237,14 @@ def make_figures(ds, summary: dict, outdir) -> dict:
         if fig is not None:
             out[name] = fig
             break  # a normal-load path has no F_x axis: one or the other
-    maps = stickslip_steps(ds) if ds is not None else []
+    hyst = is_hysteresis(summary)
+    if hyst:
+        out.update(hysteresis_figures(ds, summary, outdir))
+    picks = loop_map_steps(ds, summary) if hyst and ds is not None else []
+    maps = [] if picks else stickslip_steps(ds) if ds is not None else []
+    if picks:
+        out["stickslip_loop"] = loop_stickslip_figure(ds, picks, outdir / "stickslip_loop.png",
+                                                      mu=_friction_coefficient(summary, ds))
     if maps:
         mu = _friction_coefficient(summary, ds)
         qmax = max(float(np.nanmax(np.hypot(np.nan_to_num(ds["shear_x"].values[i]),
@@ -673,8 +1276,8 @@ def make_figures(ds, summary: dict, outdir) -> dict:
         out["topography"] = topography_figure(ds, outdir / "topography.png")
     ordered = {}
     for k in FIGURE_NAMES:
-        if k == "stickslip":
-            ordered.update({n: p for n, p in out.items() if n.startswith("stickslip_")})
+        if k in ("stickslip", "dissipation"):
+            ordered.update({n: p for n, p in out.items() if n.startswith(k + "_")})
         elif k in out:
             ordered[k] = out[k]
     return ordered

@@ -1,5 +1,7 @@
 """report.html: a self-contained page (figures embedded as base64 PNG) with the key scalars,
-the step table, the inputs, the versions and the convergence status."""
+the step table, the inputs, the versions and the convergence status; for hysteresis runs a
+"Friction hysteresis" section (loop, energy per cycle, lateral stiffness at Paper F's points,
+dissipation and stick/slip maps)."""
 
 from __future__ import annotations
 
@@ -7,9 +9,11 @@ import base64
 import datetime as _dt
 import html
 import json
+import math
 from pathlib import Path
 
 from ..units import format_quantity
+from .figures import is_hysteresis, mindlin_reference
 from .summary import atomic_write_text, jsonable
 
 __all__ = ["render_report", "write_report"]
@@ -27,6 +31,20 @@ _CAPTIONS = {
                     "step; gross-slip onset (dashed) and presliding displacement (dotted) marked."),
     "stick_normal": ("Stick ratio (and stick-radius ratio c/a when computed) along the normal-load path: "
                      "slip from the normal load alone (frictional Poisson coupling)."),
+    "hysteresis_loop": ("Friction hysteresis loop: tangential force F\u2093 against the displacement \u03b4\u2093 of "
+                        "body 2, one colour per cycle (cycle 0, the initial loading, dashed). Paper E's points: A "
+                        "(start, F\u2093 = 0), A' (the step after it), the turning points D, H, L ... (filled) and the "
+                        "steps right after them D', H' ... (open). Grey band: the Mindlin-Deresiewicz loop, drawn "
+                        "for smooth bodies without normal-tangential coupling. Below: stick ratio A_stick / A_c "
+                        "along the path."),
+    "lateral_stiffness": ("Lateral stiffness K_L at Paper F's points A, B, C (F\u2093 / (\u03bc F\u2080\u207a) = "
+                          "-0.5, 0, 0.5 on the last branch from -F* to +F*; not Paper E's point A): fit of the "
+                          "simulated branch (Paper F Eq. 3; thin line: the fitted K_L along the branch), the exact "
+                          "Mindlin-Deresiewicz slope of a branch from the same turning point, and the virgin-curve "
+                          "slope of Paper F Eq. 6."),
+    "stickslip_loop": ("Stick/slip maps at Paper E's points (A: start; D, H, L ...: turning points; D', H' ...: "
+                       "the step right after them): compressive contact that sticks (blue) or slips (red), no "
+                       "contact (grey); arrows: tangential traction q on body 1, on a common scale."),
 }
 _STICKSLIP_CAPTION = ("Stick/slip map of step {k}: compressive contact that sticks (blue) or slips (red), "
                       "tensile zone p < 0 where no shear acts (pale amber), no contact (grey); arrows: "
@@ -90,6 +108,7 @@ th{background:#f4f4f4}td.l,th.l{text-align:left}
 .warnings{background:#fff4dc;border:2px solid #f0a30a;border-left:10px solid #f0a30a;padding:.5em 1em;
 border-radius:4px;margin:.8em 0}.warnings b{color:#8a5300}.warnings ul{margin:.3em 0 .1em 1.2em;padding:0}
 figure{display:inline-block;margin:.5em;vertical-align:top;max-width:520px}figure img{max-width:100%}
+figure.wide{display:block;max-width:100%}figure.mid{max-width:700px}h3{font-size:1.02em;margin:1.2em 0 .4em}
 figcaption{font-size:.85em;color:#555}pre{background:#f7f7f7;padding:1em;overflow:auto;font-size:.8em;max-height:30em}
 .muted{color:#777;font-size:.85em}.scroll{overflow-x:auto;max-width:100%}.steps{font-size:.8em}.steps td{white-space:nowrap;padding:2px 5px}.steps th{padding:2px 5px}
 """
@@ -112,6 +131,10 @@ def _fmt(value, dim) -> str:
 
 
 def _caption(name: str) -> str:
+    if name.startswith("dissipation_cycle"):
+        return (f"Cycle {name[len('dissipation_cycle'):]}: frictional dissipation per area (sum over the cycle's "
+                "steps of -q \u00b7 \u0394s, J/m\u00b2) and accumulated slip (sum of |\u0394s|), on the nodes "
+                "that carried compressive contact.")
     if name.startswith("stickslip_step"):
         return _STICKSLIP_CAPTION.format(k=name[len("stickslip_step"):])
     if name.startswith("stickslip_field"):
@@ -122,6 +145,132 @@ def _caption(name: str) -> str:
 def _img(path: Path) -> str:
     data = base64.b64encode(Path(path).read_bytes()).decode("ascii")
     return f"data:image/png;base64,{data}"
+
+
+def _figure_html(name: str, path, cls: str = "") -> str:
+    e = html.escape
+    c = f" class='{cls}'" if cls else ""
+    return (f"<figure{c}><img alt='{e(name)}' src='{_img(path)}'><figcaption>{e(_caption(name))}</figcaption>"
+            "</figure>")
+
+
+def _is_hysteresis_figure(name: str) -> bool:
+    return name in ("hysteresis_loop", "lateral_stiffness", "stickslip_loop") or name.startswith("dissipation_cycle")
+
+
+def _stiffness(value) -> str:
+    """A stiffness (N/m) in N/\u00b5m, N/mm or N/m."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return "n/a"
+    if not math.isfinite(v):
+        return "n/a"
+    for label, f in (("N/\u00b5m", 1e6), ("N/mm", 1e3), ("N/m", 1.0)):
+        if abs(v) >= f:
+            return f"{v / f:.4g} {label}"
+    return f"{v:.4g} N/m"
+
+
+def _num(v):
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return None
+    return f if math.isfinite(f) else None
+
+
+def _hysteresis_section(s: dict, fric: list, figures: dict) -> list:
+    """The "Friction hysteresis" section: the run's friction scalars, the loop figure, the
+    energy per cycle, the lateral stiffness at Paper F's points, and the maps."""
+    e = html.escape
+    parts = ["<h2>Friction hysteresis</h2>"]
+    mu = _num(s.get("friction_coefficient"))
+    f0p = _num(s.get("repulsive_force"))
+    mup = mu * f0p if mu and f0p else None
+    rows = []
+    if s.get("control"):
+        rows.append(("control", f"{s['control']} (Papers E, F: cycles 0 \u2192 +F* \u2192 -F* \u2192 +F* ...)"
+                     if s["control"] == "force" else f"{s['control']} (stroke cycles, gross sliding allowed)"))
+    if f0p is not None:
+        rows.append(("repulsive force F\u2080\u207a (at F\u2093 = 0)", _fmt(f0p, "force")))
+    peak = _num(s.get("peak_force"))
+    if peak is not None:
+        extra = f" = {peak / mup:.4g} \u03bc F\u2080\u207a" if mup else ""
+        rows.append(("peak force F*", _fmt(peak, "force") + extra))
+    rows += fric
+    if s.get("static_friction_force") is None:
+        rows.append(("static friction force", "not reached (the stick zone never vanished on the initial loading)"))
+    lc = _num(s.get("loop_change"))
+    if lc is not None:
+        rows.append(("loop change between the last two cycles, max |\u0394F\u2093| / (\u03bc F\u2080\u207a)",
+                     f"{lc:.3g}"))
+    failed = s.get("failed_steps") or []
+    rows.append(("steps that did not converge", ", ".join(str(i) for i in failed) if failed else "none"))
+    parts.append("<table>")
+    parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in rows]
+    parts.append("</table>")
+    if "hysteresis_loop" in figures:
+        parts.append(_figure_html("hysteresis_loop", figures["hysteresis_loop"], "mid"))
+
+    # energy per cycle
+    area = list(s.get("dissipated_energy") or [])
+    work = list(s.get("dissipation_work") or [])
+    if area or work:
+        ref = mindlin_reference(s)
+        parts.append("<h3>Dissipated energy per cycle</h3><table><tr><th>cycle</th>"
+                     "<th>loop area \u222e F\u2093 d\u03b4\u2093</th><th>traction work \u2211 -q \u00b7 \u0394s</th>"
+                     "<th>work / area</th>" + ("<th>Mindlin-Deresiewicz W</th><th>area / W</th>" if ref else "")
+                     + "</tr>")
+        for k in range(max(len(area), len(work))):
+            a = _num(area[k]) if k < len(area) else None
+            w = _num(work[k]) if k < len(work) else None
+            ratio = f"{w / a:.4f}" if a and w is not None else "n/a"
+            cells = [str(k + 1), _fmt(a, "energy"), _fmt(w, "energy"), ratio]
+            if ref:
+                cells += [_fmt(ref["energy"], "energy"), f"{a / ref['energy']:.4f}" if a is not None else "n/a"]
+            parts.append("<tr>" + "".join(f"<td>{e(c)}</td>" for c in cells) + "</tr>")
+        parts.append("</table>")
+        if ref:
+            parts.append("<p class='muted'>Mindlin-Deresiewicz: W = (9 \u03bc\u00b2 P\u00b2 k / (10 a)) "
+                         "[1 - (1 - r)^(5/3) - (5 r / 6)(1 + (1 - r)^(2/3))], r = F* / (\u03bc P), P = F\u2080\u207a, "
+                         "a from the "
+                         f"compressive contact area at the start ({e(_fmt(ref['radius'], 'length'))}), k = \u2211 "
+                         "(2 - \u03bd)/G.</p>")
+
+    # lateral stiffness (Paper F)
+    table = [t for t in (s.get("lateral_stiffness") or []) if isinstance(t, dict)]
+    if table:
+        parts.append("<h3>Lateral stiffness (Paper F)</h3><table><tr><th>point</th>"
+                     "<th>F\u2093 / (\u03bc F\u2080\u207a)</th><th>F\u2093</th><th>\u03b4\u2093</th>"
+                     "<th>K_L fit (Eq. 3)</th><th>K_L Mindlin-Deresiewicz</th><th>K_L virgin (Paper F Eq. 6)</th>"
+                     "<th>fit / Mindlin-Deresiewicz</th></tr>")
+        for t in table:
+            k, md = _num(t.get("stiffness")), _num(t.get("mindlin_stiffness"))
+            ratio = f"{k / md:.4f}" if k is not None and md else "n/a"
+            fr = _num(t.get("force_ratio"))
+            cells = [str(t.get("point", "")), f"{fr:+.2f}" if fr is not None else "n/a",
+                     _fmt(t.get("tangential_force"), "force"), _fmt(t.get("displacement"), "length"),
+                     _stiffness(k), _stiffness(md), _stiffness(t.get("virgin_stiffness")), ratio]
+            parts.append("<tr>" + "".join(f"<td>{e(c)}</td>" for c in cells) + "</tr>")
+        parts.append("</table>")
+        fit = s.get("lateral_stiffness_fit") or {}
+        if all(_num(fit.get(x)) is not None for x in ("c1", "c2", "n")):
+            parts.append(f"<p class='muted'>Fit F\u2093 - F_turn = c\u2081 (1 - (1 - c\u2082 \u03b4)^n) on the last "
+                         f"branch from -F* (\u03b4 from its turning point): c\u2081 = {e(_fmt(fit['c1'], 'force'))}, "
+                         f"c\u2082 = {float(fit['c2']):.4g} 1/m, n = {float(fit['n']):.4g} (Mindlin: n = 1.5). "
+                         "Points A, B, C are Paper F's, not Paper E's.</p>")
+    elif s.get("lateral_stiffness_error"):
+        parts.append(f"<p class='note'>Lateral stiffness not computed: {e(str(s['lateral_stiffness_error']))}</p>")
+    if "lateral_stiffness" in figures:
+        parts.append(_figure_html("lateral_stiffness", figures["lateral_stiffness"]))
+    for name, path in figures.items():
+        if name.startswith("dissipation_cycle"):
+            parts.append(_figure_html(name, path, "wide"))
+    if "stickslip_loop" in figures:
+        parts.append("<h3>Stick and slip at Paper E's points</h3>")
+        parts.append(_figure_html("stickslip_loop", figures["stickslip_loop"], "wide"))
+    return parts
 
 
 def render_report(summary: dict, figures: dict | None = None) -> str:
@@ -191,7 +340,11 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
     parts.append("</table>")
 
     fric = [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS if s.get(key) is not None]
-    if fric:
+    figures = {k: v for k, v in (figures or {}).items() if v is not None and Path(v).exists()}
+    if is_hysteresis(s):
+        parts += _hysteresis_section(s, fric, figures)
+        figures = {k: v for k, v in figures.items() if not _is_hysteresis_figure(k)}
+    elif fric:
         parts.append("<h2>Friction</h2><table>")
         parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in fric]
         parts.append("</table>")
@@ -199,10 +352,7 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
     if figures:
         parts.append("<h2>Figures</h2>")
         for name, path in figures.items():
-            if path is None or not Path(path).exists():
-                continue
-            parts.append(f"<figure><img alt='{e(name)}' src='{_img(path)}'><figcaption>"
-                         f"{e(_caption(name))}</figcaption></figure>")
+            parts.append(_figure_html(name, path))
 
     if steps:
         cols = [(k, h, d) for k, h, d, optional in _STEP_COLUMNS
