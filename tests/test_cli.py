@@ -116,9 +116,8 @@ def test_run_prints_a_table(tmp_path):
         (GOOD.replace('n = 16', 'n = 16\ncolour = "red"'), ["grid.colour", "unknown key", "allowed keys"]),
         (GOOD.replace('forces = ["1 uN", "2 uN"]', 'force = "3 nm"'), ["load.force", "expected a force (N)", "3 nm"]),
         (GOOD.replace("nu = 0.28", "nu = 0.8"), ["body1.nu", "(-1, 0.5]"]),
-        (GOOD.replace('kind = "normal"', 'kind = "hysteresis"').replace(
-            'forces = ["1 uN", "2 uN"]',
-            'force = "1 uN"\n[friction]\ncoefficient = 0.2\npath = { control = "force", cycles = 1, steps = 8 }'),
+        (GOOD.replace('kind = "normal"', 'kind = "capillary"').replace(
+            'forces = ["1 uN", "2 uN"]', 'force = "1 uN"\n[humidity]\nrh = [0.5]'),
          ["not implemented yet in this version"]),
         ("kind = \n", ["not valid TOML"]),
         (GOOD.replace("n = 16", "n = 131072"), ["GiB"]),

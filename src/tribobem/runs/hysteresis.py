@@ -74,6 +74,13 @@ def _stiffness_table(rows, run, mu, f0p, radius, k_compliance):
     last_cycle = max(rows[i]["cycle"] for i in idx)
     br = [i for i in idx if rows[i]["cycle"] == last_cycle]
     turn = br[0] - 1  # the turning point -F* (last step of the unloading branch)
+    # Paper F fits the pre-sliding part of the branch: stop at the first step in gross slip.
+    pre = []
+    for i in br:
+        pre.append(i)
+        if rows[i].get("gross_slip"):
+            break
+    br = pre
     F0, d0 = rows[turn]["tangential_force_x"], rows[turn]["displacement_x"]
     F = np.array([rows[i]["tangential_force_x"] for i in br]) - F0
     D = np.array([rows[i]["displacement_x"] for i in br]) - d0

@@ -251,7 +251,7 @@ def hysteresis_loop(
             ds = res.tangential.slip
             q = res.tangential.shear
             w = -(q[0] * ds[0] + q[1] * ds[1])
-            dl = np.hypot(ds[0], ds[1])
+            dl = np.where(res.tangential.contact, np.hypot(ds[0], ds[1]), 0.0)  # slip only where in contact
             diss[c] = w if diss[c] is None else diss[c] + w
             slip[c] = dl if slip[c] is None else slip[c] + dl
             run.steps.append(res)
