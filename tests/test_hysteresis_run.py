@@ -68,13 +68,12 @@ def test_force_loop_follows_mindlin_deresiewicz():
     run = hysteresis_loop(op, gap, normal_force=P, friction_coefficient=mu, amplitude=0.8, cycles=1, steps=12,
                           tangential_tol=1e-8)
     k = _mindlin_k(pair)
-    d0 = 3 * mu * P * k / (16 * a)
     F = np.array([s.tangential.force_x for s in run.steps])
     D = np.array([s.tangential.displacement_x for s in run.steps])
-    dstar = mindlin_deresiewicz_delta(run.peak_force, "loading", run.peak_force, mu, P, d0)
+    dstar = mindlin_deresiewicz_delta(run.peak_force, "loading", run.peak_force, mu, P, a, k)
     for name in ("loading", "unloading", "reloading"):
         sel = run.path.branch == name
-        ref = mindlin_deresiewicz_delta(F[sel], name, run.peak_force, mu, P, d0)
+        ref = mindlin_deresiewicz_delta(F[sel], name, run.peak_force, mu, P, a, k)
         assert np.max(np.abs(D[sel] - ref)) < 0.03 * dstar, name
     # the traction work per cycle equals the loop area (two measures of one energy)
     E = loop_energies(np.r_[0.0, F], np.r_[0.0, D], np.r_[0, run.path.cycle])[0]

@@ -87,8 +87,10 @@ def _stiffness_table(rows, run, mu, f0p, radius, k_compliance):
     F = np.concatenate([[0.0], F])
     D = np.concatenate([[0.0], D])
     (c1, c2, n), K = lateral_stiffness_fit(F, D)
+    from ..analytic.mindlin import mindlin_reloading_stiffness, mindlin_virgin_stiffness
+
     Fstar = -F0
-    K0 = 8.0 * radius / k_compliance if k_compliance > 0 else float("nan")
+    md = {"P": f0p, "a": radius, "mu": mu, "k": k_compliance}
     table = []
     for name, ratio in STIFFNESS_POINTS.items():
         Ft = ratio * mu * f0p
@@ -96,10 +98,13 @@ def _stiffness_table(rows, run, mu, f0p, radius, k_compliance):
             continue
         dd = float(np.interp(Ft - F0, F, D))
         k_fit = float(K(dd))
-        # Exact Mindlin-Deresiewicz branch through the same turning point (SPEC 9.1).
-        k_md = K0 * max(1.0 - (Fstar + Ft) / (2.0 * mu * f0p), 0.0) ** (1.0 / 3.0)
-        # Paper F Eq. 6: the virgin-curve slope at the same |force|.
-        k_virgin = K0 * max(1.0 - abs(Ft) / (mu * f0p), 0.0) ** (1.0 / 3.0)
+        # Exact Mindlin-Deresiewicz branch through the same turning point (SPEC 9.1), with F0+
+        # for P; and Paper F Eq. 6, the virgin-curve slope at the same |force|.
+        try:
+            k_md = float(mindlin_reloading_stiffness(Ft, Fstar, **md))
+            k_virgin = float(mindlin_virgin_stiffness(abs(Ft), **md))
+        except InputError:  # e.g. F* beyond mu F0+ (F0+ fell along the path)
+            k_md = k_virgin = float("nan")
         table.append({"point": name, "force_ratio": ratio, "tangential_force": Ft, "displacement": dd + d0,
                       "stiffness": k_fit, "mindlin_stiffness": k_md, "virgin_stiffness": k_virgin})
     return table, {"c1": c1, "c2": c2, "n": n}

@@ -29,16 +29,15 @@ from .tangential import _mindlin_k, cattaneo_problem
 __all__ = ["CASES", "mindlin_deresiewicz_delta"]
 
 
-def mindlin_deresiewicz_delta(Q, branch: str, Q_star: float, mu: float, P: float, delta0: float):
-    """Mindlin-Deresiewicz tangential displacement (m) on a branch (SPEC 7, corrected 2.27c)."""
-    Q = np.asarray(Q, float)
-    muP = mu * P
+def mindlin_deresiewicz_delta(Q, branch: str, Q_star: float, mu: float, P: float, a: float, k: float):
+    """Mindlin-Deresiewicz tangential displacement (m) on a branch (SPEC 7, corrected Eq. 2.27c)."""
+    from ..analytic import mindlin as md
+
     if branch == "loading":
-        return delta0 * (1.0 - (1.0 - Q / muP) ** (2.0 / 3.0))
-    base = (1.0 - Q_star / muP) ** (2.0 / 3.0)
+        return md.cattaneo_mindlin_displacement(Q, P=P, a=a, mu=mu, k=k)
     if branch == "unloading":
-        return delta0 * (2.0 * (1.0 - (Q_star - Q) / (2.0 * muP)) ** (2.0 / 3.0) - base - 1.0)
-    return -delta0 * (2.0 * (1.0 - (Q_star + Q) / (2.0 * muP)) ** (2.0 / 3.0) - base - 1.0)
+        return md.mindlin_unloading_displacement(Q, Q_star, P=P, a=a, mu=mu, k=k)
+    return md.mindlin_reloading_displacement(Q, Q_star, P=P, a=a, mu=mu, k=k)
 
 
 def _md_rows(quick: bool) -> list:
@@ -52,31 +51,32 @@ def _md_rows(quick: bool) -> list:
         warnings.simplefilter("ignore", ConvergenceWarning)
         run = hysteresis_loop(op, gap, normal_force=P, friction_coefficient=mu, amplitude=amp, cycles=1, steps=steps,
                               tangential_tol=1e-8)
+    from ..analytic import mindlin as md
+
     k = _mindlin_k(pair)
-    d0 = 3.0 * mu * P * k / (16.0 * a)
     Qs = run.peak_force  # = amp mu F0+ (F0+ = P without adhesion)
     F = np.array([s.tangential.force_x for s in run.steps])
     D = np.array([s.tangential.displacement_x for s in run.steps])
     br = run.path.branch
-    dstar = float(mindlin_deresiewicz_delta(Qs, "loading", Qs, mu, P, d0))
+    dstar = float(mindlin_deresiewicz_delta(Qs, "loading", Qs, mu, P, a, k))
     case = f"mindlin_deresiewicz {n}^2, Q* = {amp:g} mu P"
     rows = []
     for name in ("loading", "unloading", "reloading"):
         sel = br == name
-        ref = mindlin_deresiewicz_delta(F[sel], name, Qs, mu, P, d0)
+        ref = mindlin_deresiewicz_delta(F[sel], name, Qs, mu, P, a, k)
         err = np.abs(D[sel] - ref)
         i = int(np.argmax(err))
         rows.append(_row(case, f"delta on the {name} branch (largest error, relative to delta*)",
                          float(ref[i]), float(D[sel][i]), 0.03, scale=dstar))
-    r = Qs / (mu * P)
-    W = 9.0 * mu**2 * P**2 * k / (10.0 * a) * (1.0 - (1.0 - r) ** (5.0 / 3.0) - 5.0 * r / 6.0 * (1.0 + (1.0 - r) ** (2.0 / 3.0)))
+    W = md.mindlin_loop_energy(Qs, P=P, a=a, mu=mu, k=k)
     E = loop_energies(np.concatenate([[0.0], F]), np.concatenate([[0.0], D]), np.concatenate([[0], run.path.cycle]))
     rows.append(_row(case, "loop energy (loop area)", W, E[0], 0.05))
     # Stick radius mid-branch: the counter-slip radius c'.
-    for name, sign in (("unloading", 1.0), ("reloading", -1.0)):
+    for name in ("unloading", "reloading"):
         idx = np.flatnonzero(br == name)
         j = idx[np.argmin(np.abs(F[idx]))]  # the step nearest Q = 0
-        c_ref = a * (1.0 - (Qs - sign * F[j]) / (2.0 * mu * P)) ** (1.0 / 3.0)
+        ratio_fn = md.mindlin_unloading_stick_ratio if name == "unloading" else md.mindlin_reloading_stick_ratio
+        c_ref = a * float(ratio_fn(F[j], Qs, P=P, mu=mu))
         c_num = math.sqrt(run.steps[j].tangential.stick_area / math.pi)
         rows.append(_row(case, f"stick radius on the {name} branch at Q = {F[j] / (mu * P):+.3f} mu P", c_ref, c_num, 0.03))
     # Lateral stiffness at A, B, C on the reloading branch (fit from the turning point -Q*).
@@ -85,11 +85,10 @@ def _md_rows(quick: bool) -> list:
     Fb = np.concatenate([[0.0], F[idx] - F[t]])
     Db = np.concatenate([[0.0], D[idx] - D[t]])
     _, K = lateral_stiffness_fit(Fb, Db)
-    K0 = 8.0 * a / k
     for point, ratio in STIFFNESS_POINTS.items():
         Qp = ratio * mu * P
         dd = float(np.interp(Qp - F[t], Fb, Db))
-        k_md = K0 * (1.0 - (Qs + Qp) / (2.0 * mu * P)) ** (1.0 / 3.0)
+        k_md = float(md.mindlin_reloading_stiffness(Qp, Qs, P=P, a=a, mu=mu, k=k))
         rows.append(_row(case, f"lateral stiffness at {point} (Q = {ratio:+g} mu P), fit vs exact branch slope",
                          k_md, float(K(dd)), 0.05))
     return rows

@@ -53,7 +53,10 @@ def _quiet(fn, *a, **kw):
 
 
 def _mindlin_k(pair: ContactPair) -> float:
-    return sum(0.0 if m.is_rigid else (2.0 - m.nu) / m.shear_modulus for m in (pair.body1, pair.body2))
+    """k = sum (2 - nu_i) / G_i of the pair (rigid bodies contribute 0)."""
+    from ..analytic.mindlin import mindlin_compliance_k
+
+    return mindlin_compliance_k(pair.body1.E, pair.body1.nu, pair.body2.E, pair.body2.nu)
 
 
 def cattaneo_problem(n: int, periodic: bool = False, radius: float = 10e-3, force: float = 10.0):
@@ -75,6 +78,8 @@ def _cattaneo_rows(quick: bool) -> list:
     from ..solvers.normal import solve_normal
     from ..solvers.tangential import solve_tangential
 
+    from ..analytic.mindlin import cattaneo_mindlin_displacement, cattaneo_stick_ratio
+
     n = 96 if quick else 192
     ratios = (0.2, 0.5, 0.9) if quick else (0.2, 0.3, 0.5, 0.7, 0.8, 0.9)
     P, mu = 10.0, 0.3
@@ -87,8 +92,8 @@ def _cattaneo_rows(quick: bool) -> list:
         tr = _quiet(solve_tangential, op, nr.pressure, nr.contact, friction_coefficient=mu, force=(r * mu * P, 0.0),
                     initial_shear=prev, tol=1e-9)
         prev = tr.shear
-        c_ref = a * (1.0 - r) ** (1.0 / 3.0)
-        d_ref = 3.0 * mu * P * k / (16.0 * a) * (1.0 - (1.0 - r) ** (2.0 / 3.0))
+        c_ref = a * float(cattaneo_stick_ratio(r * mu * P, P=P, mu=mu))
+        d_ref = float(cattaneo_mindlin_displacement(r * mu * P, P=P, a=a, mu=mu, k=k))
         case = f"cattaneo_mindlin {n}^2"
         rows.append(_row(case, f"stick radius c at Q/(mu P)={r:g}", c_ref, math.sqrt(tr.stick_area / math.pi), 0.03))
         rows.append(_row(case, f"rigid shift delta at Q/(mu P)={r:g}", d_ref, tr.displacement_x, 0.03))
@@ -105,11 +110,11 @@ def _cattaneo_periodic_rows(quick: bool) -> list:
     nr = _quiet(solve_normal, op, gap, force=P, tol=1e-12)
     tr = _quiet(solve_tangential, op, nr.pressure, nr.contact, friction_coefficient=mu, force=(r * mu * P, 0.0), tol=1e-9)
     # Reference: the Cattaneo-Mindlin traction on the same periodic operator.
-    c = a * (1.0 - r) ** (1.0 / 3.0)
-    p0 = 3.0 * P / (2.0 * math.pi * a * a)
+    from ..analytic.mindlin import cattaneo_mindlin_traction, cattaneo_stick_ratio
+
+    c = a * float(cattaneo_stick_ratio(r * mu * P, P=P, mu=mu))
     R2 = grid.radius() ** 2
-    qx = mu * p0 * np.sqrt(np.clip(1.0 - R2 / a**2, 0.0, None))
-    qx -= mu * p0 * (c / a) * np.sqrt(np.clip(1.0 - R2 / c**2, 0.0, None))
+    qx = np.asarray(cattaneo_mindlin_traction(np.sqrt(R2), r * mu * P, P=P, a=a, mu=mu), dtype=float)
     top = tangential_operator(op)
     ux, _ = top.shear_displacement(qx, np.zeros_like(qx))
     core = R2 < (0.8 * c) ** 2
@@ -130,7 +135,9 @@ def _stiffness_rows(quick: bool) -> list:
     grid, gap, op, pair, a = cattaneo_problem(n)
     nr = _quiet(solve_normal, op, gap, force=P, tol=1e-12)
     tr = _quiet(solve_tangential, op, nr.pressure, nr.contact, friction_coefficient=mu, force=(r * mu * P, 0.0), tol=1e-10)
-    K_ref = 8.0 * a / _mindlin_k(pair)
+    from ..analytic.mindlin import mindlin_initial_stiffness
+
+    K_ref = mindlin_initial_stiffness(a, _mindlin_k(pair))
     return [_row(f"mindlin_stiffness {n}^2", "initial stiffness Q/delta (N/m) vs 8a/k", K_ref,
                  tr.force_x / tr.displacement_x, 0.03)]
 
