@@ -55,6 +55,7 @@ def solve_coupled(
     coupling_tol: float = 1e-7,
     max_iterations: int = 10000,
     max_coupling: int = 50,
+    shear_on_pressure: bool = True,
 ) -> CoupledResult:
     """Solve one step of the coupled normal-tangential contact problem.
 
@@ -85,6 +86,10 @@ def solve_coupled(
         Per solver call.
     max_coupling : int
         Outer iterations.
+    shear_on_pressure : bool
+        False: Goodman's approximation, the shear does not act on the normal problem (one pass;
+        the pressure still displaces the surfaces tangentially).  Analytic solutions such as
+        Spence's self-similar stick zone are derived under it.
 
     Returns
     -------
@@ -114,14 +119,15 @@ def solve_coupled(
     if initial is not None:
         p_init = initial.normal
         shear = initial.tangential.shear
-        if top.coupled:
+        if top.coupled and shear_on_pressure:
             uz = top.normal_from_shear(xp.asarray(shear[0]), xp.asarray(shear[1]))
     history: list[float] = []
     converged = False
     message = ""
     normal: NormalResult | None = None
     tang = None
-    n_outer = max_coupling if top.coupled else 1
+    two_way = top.coupled and shear_on_pressure
+    n_outer = max_coupling if two_way else 1
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         last_change = float("inf")
@@ -131,7 +137,7 @@ def solve_coupled(
             # Inexact inner solves while the outer loop is far from converged: the tangential
             # tolerance follows the last pressure change (the final pass is always solved to
             # ``tangential_tol``: the loop only stops after a pass at full accuracy).
-            t_tol = tangential_tol if not top.coupled else max(tangential_tol, min(1e-4, 1e-2 * last_change))
+            t_tol = tangential_tol if not two_way else max(tangential_tol, min(1e-4, 1e-2 * last_change))
             normal = solve_normal(operator, h_k, interaction=interaction, tol=tol, max_iterations=max_iterations,
                                   initial_pressure=p_init, **normal_load)
             tang = solve_tangential(operator, normal.pressure, normal.contact,
@@ -142,12 +148,13 @@ def solve_coupled(
                 p_prev = p_init.pressure
                 change = float(np.abs(normal.pressure - p_prev).sum()) / max(float(np.abs(normal.pressure).sum()), 1e-300)
             else:
-                change = float("inf") if top.coupled else 0.0
+                change = float("inf") if two_way else 0.0
             history.append(change)
             p_init, shear = normal, tang.shear
-            if not top.coupled:
+            if not two_way:
                 converged = True
-                message = "uncoupled (identical materials): one pass"
+                message = ("uncoupled (identical materials): one pass" if not top.coupled
+                           else "Goodman approximation (shear not acting on the pressure): one pass")
                 break
             last_change = change
             if change < coupling_tol and k > 1 and t_tol <= tangential_tol:
