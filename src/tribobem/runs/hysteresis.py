@@ -8,7 +8,8 @@ row is the start (Paper E point A, F_x = 0, one-shot solve).  Run level: ``dissi
 the tractions), ``static_friction_force`` (first step without stick on the first loading branch),
 ``presliding_displacement``, ``sliding_force`` (displacement paths in gross sliding),
 ``lateral_stiffness`` (points A, B, C: F_x/(mu F0+) = -0.5, 0, 0.5 on the last branch from -F*
-to +F*), ``loop_change`` (max |dF_x| / mu F0+ between the last two loops, displacement paths).
+to +F*), ``loop_change`` (between the last two loops: max |dF_x| / mu F0+ on displacement paths,
+max |d delta_x| / loop width on force paths).
 """
 
 from __future__ import annotations
@@ -160,13 +161,24 @@ def run(pb, bar) -> dict:
     if path.control == "displacement":
         gross = [abs(r["tangential_force_x"]) for r in rows if r.get("gross_slip")]
         run_level["sliding_force"] = float(np.mean(gross)) if gross else None
-        last = [i for i, r in enumerate(rows) if r["cycle"] == path.cycles]
-        prev = [i for i, r in enumerate(rows) if r["cycle"] == path.cycles - 1 and r["cycle"] >= 1]
-        if last and prev and len(last) == len(prev):
+    # Change between the last two loops: max |dF_x| / (mu F0+) on displacement paths, max
+    # |d delta_x| / (loop width in delta_x) on force paths (the prescribed quantity does not change).
+    last = [i for i, r in enumerate(rows) if r["cycle"] == path.cycles]
+    prev = [i for i, r in enumerate(rows) if r["cycle"] == path.cycles - 1 and r["cycle"] >= 1]
+    if last and prev and len(last) == len(prev):
+        if path.control == "displacement":
             dF = max(abs(rows[i]["tangential_force_x"] - rows[j]["tangential_force_x"]) for i, j in zip(last, prev))
             run_level["loop_change"] = dF / (mu * f0p) if mu > 0 else None
+        else:
+            dd = max(abs(rows[i]["displacement_x"] - rows[j]["displacement_x"]) for i, j in zip(last, prev))
+            width = max(r["displacement_x"] for r in (rows[i] for i in last)) - \
+                min(r["displacement_x"] for r in (rows[i] for i in last))
+            run_level["loop_change"] = dd / width if width > 0 else None
     # Lateral stiffness (Paper F) on the last branch from -F* to +F*.
-    k_comp = sum(0.0 if m.is_rigid else (2.0 - m.nu) / m.shear_modulus for m in (pb.pair.body1, pb.pair.body2))
+    from ..analytic.mindlin import mindlin_compliance_k
+
+    b1, b2 = pb.pair.body1, pb.pair.body2
+    k_comp = mindlin_compliance_k(b1.E, b1.nu, b2.E, b2.nu)
     radius = math.sqrt(res.start.normal.contact_area_compressive / math.pi)
     try:
         table, fit = _stiffness_table(rows, res, mu, f0p, radius, k_comp)
