@@ -398,6 +398,71 @@ def plot(
                 _stdout().print(f"{name}: {escape(str(path))}")
 
 
+# ----------------------------------------------------------------------------- compare-loop
+@app.command("compare-loop")
+def compare_loop(
+    result: Path = typer.Argument(..., help="Result folder of a hysteresis run (with summary.json)."),
+    measured: Path = typer.Argument(..., help="Measured loop: CSV with displacement and force columns, units in "
+                                              "the header, e.g. 'displacement (um), force (mN)'."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Figure (PNG; default RESULT/compare_loop.png)."),
+    center: bool = typer.Option(True, "--center/--no-center", help="Centre each loop's displacement range on 0 "
+                                                                   "in the overlay."),
+    as_json: bool = typer.Option(False, "--json", help="Print the comparison as JSON."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print only the figure path."),
+):
+    """Overlay a measured friction loop on a simulated one and compare K_L at A, B, C (Paper F).
+
+    Both loops: Paper F Eq. 3 fitted to the pre-sliding part of the last rising branch, from its turning point.
+
+    A, B, C: F = -0.5, 0, 0.5 x the force scale (simulated: mu F0+; measured: F* = max |F| of the record).
+    """
+    with _user_errors():
+        from .loops import compare_loops
+        from .units import format_quantity
+
+        if not result.exists():
+            raise FileNotFoundError(f"result folder {result} not found")
+        if not measured.exists():
+            raise FileNotFoundError(f"measured loop {measured} not found")
+        folder = result.parent if result.is_file() else result
+        figure = out if out is not None else folder / "compare_loop.png"
+        cmp = compare_loops(result, measured, figure=figure, center=center)
+        if as_json:
+            from .output.summary import jsonable
+
+            sys.stdout.write(json.dumps(jsonable(cmp.as_dict()), indent=2) + "\n")
+            return
+        if quiet:
+            _stdout().print(str(cmp.figure))
+            return
+        console = _stdout()
+        table = Table(title="lateral stiffness K_L (Paper F Eq. 3 fit of the last rising branch)")
+        for col in ("point", "F / scale", "K_L simulated", "K_L measured", "sim / meas"):
+            table.add_column(col, justify="left" if col == "point" else "right")
+        for r in cmp.rows:
+            ks, km = r["simulated"]["stiffness"], r["measured"]["stiffness"]
+            table.add_row(r["point"], f"{r['force_ratio']:+.2f}", _stiffness(ks), _stiffness(km),
+                          "-" if r["ratio"] != r["ratio"] else f"{r['ratio']:.3f}")
+        console.print(table)
+        for name, loop, fit in (("simulated", cmp.simulated, cmp.simulated_fit),
+                                ("measured", cmp.measured, cmp.measured_fit)):
+            console.print(f"{name}: scale {escape(loop.normalisation)}; fit over {fit.points} points from the turning "
+                          f"point (F = {format_quantity(fit.turn_force, 'force')}, "
+                          f"{'gross sliding after them' if fit.sliding else 'no gross sliding on the branch'}), "
+                          f"n = {fit.n:.3f}")
+        console.print(f"figure: [bold]{escape(str(cmp.figure))}[/bold]")
+
+
+def _stiffness(k) -> str:
+    """A stiffness (N/m) in N/m, kN/m or MN/m; '-' for NaN / None."""
+    if k is None or k != k:
+        return "-"
+    for factor, unit in ((1e6, "MN/m"), (1e3, "kN/m"), (1.0, "N/m")):
+        if abs(k) >= factor:
+            break
+    return f"{k / factor:.4g} {unit}"
+
+
 def main() -> None:  # pragma: no cover - console entry alternative
     app()
 
