@@ -418,22 +418,25 @@ def _eq3(x, c1, c2, n):
     return c1 * (1.0 - np.clip(1.0 - c2 * x, 0.0, None) ** n)
 
 
-def _fit_eq3(x, y) -> tuple[tuple[float, float, float], float]:
-    """Paper F Eq. 3 through the origin: :func:`tribobem.runs.hysteresis.lateral_stiffness_fit`
-    (the runner's fit, same model and bounds), then polished from a grid of starts.
+def fit_eq3(x, y) -> tuple[tuple[float, float, float], float]:
+    """Paper F Eq. 3 through the origin, F = c1 (1 - (1 - c2 d)^n), fitted to a branch.
 
-    The runner's fit starts near saturation at the last point ((1 - c2 d_max) small, n = 1.5),
-    right for a branch that ends at gross slip; on a pre-sliding window cut before the plateau it
-    can stop in a local minimum.  The polish keeps the model and the bounds (c1 in [0.5, 10] x
-    max F, c2 in (0, 1/d_max], n in [1, 5]): with c1 eliminated (it enters linearly), (c2, n) is
-    scanned on a grid, and the best grid point and the runner's result are refined by bounded
-    least squares; the smaller residual wins.
+    A single start near saturation ((1 - c2 d_max) small, n = 1.5) is right for a branch that
+    ends at gross slip, but on a pre-sliding window cut before the plateau it can stop in a local
+    minimum.  So: bounds c1 in [0.5, 10] x max F, c2 in (0, 1/d_max], n in [1, 5]; with c1
+    eliminated (it enters linearly), (c2, n) is scanned on a grid, and the best grid point and the
+    saturation start are refined by bounded least squares; the smaller residual wins.  The
+    simulated loops (:func:`tribobem.runs.hysteresis.lateral_stiffness_fit`) and measured loops
+    are fitted by this one function.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Displacement (m) and force (N) from the turning point, both increasing from 0.
 
     Returns ((c1, c2, n), rms residual).
     """
     from scipy.optimize import least_squares
-
-    from .runs.hysteresis import lateral_stiffness_fit
 
     x = np.asarray(x, float)
     y = np.asarray(y, float)
@@ -445,12 +448,7 @@ def _fit_eq3(x, y) -> tuple[tuple[float, float, float], float]:
         r = _eq3(x, *p) - y
         return float(r @ r)
 
-    starts = []
-    try:
-        p, _ = lateral_stiffness_fit(y, x)
-        starts.append(np.array(p, float))
-    except (RuntimeError, ValueError):
-        pass
+    starts = [np.array([fmax * 1.02, 0.98 / dmax, 1.5])]  # near saturation, Mindlin's exponent
     best_grid, best_val = None, math.inf
     for t in np.linspace(0.05, 1.0, 40):
         for n in np.linspace(1.0, 5.0, 33):
@@ -523,7 +521,7 @@ def fit_branch(loop: Loop, plateau_fraction: float = 0.98) -> BranchFit:
                                       + ("use more steps per cycle (or a smaller stroke)" if loop.kind == "simulated"
                                          else "the loop is sampled too coarsely in the pre-sliding regime"))
     x, y = dd[:cut], dF[:cut]
-    (c1, c2, n), rms = _fit_eq3(x, y)
+    (c1, c2, n), rms = fit_eq3(x, y)
     return BranchFit(int(i0), int(i1), int(i0 + cut - 1), float(F[i0]), float(d[i0]), float(c1), float(c2),
                      float(n), sliding, plateau, int(cut), rms)
 

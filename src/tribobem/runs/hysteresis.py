@@ -32,6 +32,10 @@ STIFFNESS_POINTS = {"A": -0.5, "B": 0.0, "C": 0.5}
 def lateral_stiffness_fit(forces, displacements):
     """Fit F = c1 (1 - (1 - c2 d)^n) (Paper F Eq. 3) to a branch measured from its turning point.
 
+    The fit itself is :func:`tribobem.loops.fit_eq3` (bounded least squares from a grid of starts,
+    so a branch cut before its plateau does not stop in a local minimum); measured loops
+    (``tribobem compare-loop``) are fitted by the same function.
+
     Parameters
     ----------
     forces, displacements : array_like
@@ -41,25 +45,13 @@ def lateral_stiffness_fit(forces, displacements):
     -------
     (c1, c2, n) and a callable K(d) = c1 c2 n (1 - c2 d)^(n - 1) (N/m).
     """
-    from scipy.optimize import curve_fit
+    from ..loops import fit_eq3
 
     F = np.asarray(forces, float)
     d = np.asarray(displacements, float)
     if len(F) < 4:
         raise InputError("lateral_stiffness", f"need at least 4 points on the branch to fit, got {len(F)}")
-    dmax = float(d.max())
-    Fmax = float(F.max())
-
-    def model(x, c1, c2, n):
-        return c1 * (1.0 - np.clip(1.0 - c2 * x, 1e-12, None) ** n)
-
-    # Start: Mindlin-like shape, n = 1.5 (the inverse of 2/3), (1 - c2 dmax) small.
-    p0 = (Fmax * 1.02, 0.98 / dmax, 1.5)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        popt, _ = curve_fit(model, d, F, p0=p0, bounds=([Fmax * 0.5, 1e-6 / dmax, 1.0], [Fmax * 10, 1.0 / dmax, 5.0]),
-                            maxfev=20000)
-    c1, c2, n = (float(v) for v in popt)
+    (c1, c2, n), _ = fit_eq3(d, F)
 
     def K(x):
         return c1 * c2 * n * np.clip(1.0 - c2 * np.asarray(x, float), 1e-12, None) ** (n - 1.0)
@@ -179,7 +171,13 @@ def run(pb, bar) -> dict:
 
     b1, b2 = pb.pair.body1, pb.pair.body2
     k_comp = mindlin_compliance_k(b1.E, b1.nu, b2.E, b2.nu)
-    radius = math.sqrt(res.start.normal.contact_area_compressive / math.pi)
+    # Mindlin's reference is a smooth sphere: its Hertz radius at F0+ when the shapes are
+    # spheres (rough contacts have a much smaller real area), else the contact's own radius.
+    R = pb.info.get("radius")
+    if R:
+        radius = (3.0 * f0p * R / (4.0 * pb.pair.effective_modulus)) ** (1.0 / 3.0)
+    else:
+        radius = math.sqrt(res.start.normal.contact_area_compressive / math.pi)
     try:
         table, fit = _stiffness_table(rows, res, mu, f0p, radius, k_comp)
         run_level["lateral_stiffness"] = table
