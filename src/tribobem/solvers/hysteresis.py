@@ -36,6 +36,7 @@ import numpy as np
 
 from ..errors import ConvergenceWarning, InputError
 from .coupling import solve_coupled
+from .slip_paths import direction_vector
 from .tangential import GrossSlipError
 
 __all__ = ["CyclePath", "cycle_path", "HysteresisRun", "hysteresis_loop", "loop_energies"]
@@ -195,10 +196,7 @@ def hysteresis_loop(
     HysteresisRun
     """
     mu = friction_coefficient
-    if not math.isfinite(direction):
-        raise InputError("friction.direction", f"must be finite, got {direction!r}")
-    t = math.radians(direction)
-    e = np.array([math.cos(t), math.sin(t)])
+    e = direction_vector(direction)
     if control not in ("force", "displacement"):
         raise InputError("friction.path.control", f"must be 'force' or 'displacement', got {control!r}")
     with warnings.catch_warnings():

@@ -28,10 +28,11 @@ from ..results import CoupledResult
 from .coupling import solve_coupled
 from .tangential import GrossSlipError
 
-__all__ = ["SlipRamp", "tangential_ramp", "normal_path", "stick_radius_ratio"]
+__all__ = ["SlipRamp", "tangential_ramp", "normal_path", "stick_radius_ratio", "direction_vector"]
 
 
-def _unit(direction_deg: float) -> np.ndarray:
+def direction_vector(direction_deg: float) -> np.ndarray:
+    """Unit vector of a tangential load ``direction_deg`` degrees from the x axis."""
     if not math.isfinite(direction_deg):
         raise InputError("friction.direction", f"must be a finite angle in degrees, got {direction_deg!r}")
     t = math.radians(direction_deg)
@@ -148,7 +149,7 @@ def tangential_ramp(
         raise InputError("friction.slip", f"must be 'total' or 'incremental', got {slip!r}")
     if not (isinstance(refine_tol, float) and 0 < refine_tol < 1):
         raise InputError("refine_tol", f"must be in (0, 1), got {refine_tol!r}")
-    e = _unit(direction)
+    e = direction_vector(direction)
     control = "force" if forces is not None else "displacement"
     values = [float(v) for v in (forces if forces is not None else displacements)]
     mu = friction_coefficient
@@ -261,7 +262,7 @@ def normal_path(
     list of CoupledResult
         One per step.  A step with a force beyond mu F0+ raises GrossSlipError.
     """
-    e = _unit(direction)
+    e = direction_vector(direction)
     forces = [float(f) for f in normal_forces]
     if tangential_forces is None:
         tangential_forces = [0.0] * len(forces)
