@@ -45,6 +45,7 @@ PHYSICS = (
     "adhesion",    # maugis_dugdale, md_pull_off, guduru
     "tangential",  # cattaneo_mindlin, cattaneo_periodic, mindlin_stiffness, coupling_sign, spence
     "hysteresis",  # mindlin_deresiewicz
+    "paper_e",     # paper_e (dissimilar adhesive hysteresis, Paper E 3.2)
 )
 
 
