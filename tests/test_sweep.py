@@ -242,3 +242,13 @@ def test_stale_temporary_files_of_a_killed_sweep_are_removed(tmp_path):
     fresh.write_text("")
     res = run_sweep(SPEC, out, scheduler="synchronous", func=make_func(tmp_path / "c"), progress=False)
     assert res.complete and not stale.exists() and fresh.exists()
+
+
+def test_a_range_table_in_a_point_stays_a_value():
+    from tribobem.sweep import _flatten, apply_overrides
+
+    flat = _flatten({"friction": {"tangential_forces": {"start": "0 uN", "stop": "1 uN", "num": 3}, "coefficient": 0.2}})
+    assert flat == {"friction.tangential_forces": {"start": "0 uN", "stop": "1 uN", "num": 3},
+                    "friction.coefficient": 0.2}
+    base = {"friction": {"coefficient": 0.1}}
+    assert apply_overrides(base, flat)["friction"]["tangential_forces"]["num"] == 3

@@ -129,12 +129,17 @@ def point_hash(runner: str, base: Mapping, point: Mapping) -> str:
     return hashlib.sha256(text.encode("ascii")).hexdigest()[:16]
 
 
+#: Tables that are values of a scenario key, not nested sections: a range ``{start, stop, num}``.
+_VALUE_TABLES = ({"start", "stop", "num"},)
+
+
 def _flatten(table: Mapping, prefix: str = "") -> dict:
-    """Nested tables -> dotted keys (``{"a": {"b": 1}}`` -> ``{"a.b": 1}``)."""
+    """Nested tables -> dotted keys (``{"a": {"b": 1}}`` -> ``{"a.b": 1}``); a range table
+    ``{start, stop, num}`` is a value and stays whole."""
     out = {}
     for key, value in table.items():
         name = f"{prefix}{key}"
-        if isinstance(value, Mapping) and value:
+        if isinstance(value, Mapping) and value and set(value) not in _VALUE_TABLES:
             out.update(_flatten(value, name + "."))
         else:
             out[name] = value

@@ -274,8 +274,10 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         raise RuntimeError(f"the {sc.kind!r} runner returned {len(tangential)} tangential results for "
                            f"{len(results)} results (they must be aligned one-to-one)")
     if keep == "last" and len(results) > 1:
-        if "pull-off" in labels:
-            sel = [labels.index("pull-off")]
+        # The state a user looks for: the pull-off, the gross-slip onset, else the largest load.
+        named = [name for name in ("pull-off", "onset") if name in labels]
+        if named:
+            sel = [labels.index(named[0])]
         else:
             sel = [int(np.nanargmax([r.force for r in results]))]
         results, labels, indices = [results[i] for i in sel], [labels[i] for i in sel], [indices[i] for i in sel]
