@@ -265,10 +265,14 @@ def hysteresis_loop(
 
 
 def loop_energies(forces, displacements, cycles) -> list:
-    """Energy dissipated in each full cycle (J): the area of the F - delta loop.
+    """Work of the tangential force over each full cycle (J): |integral of F d(delta)| along the
+    cycle's path from its start (the last point of cycle c - 1), trapezoid rule.
 
-    Each cycle c >= 1 is closed with the last point of cycle c - 1 (its start), and its area is
-    |closed integral of F d(delta)| (trapezoid rule).
+    Once the loop is stationary this is the loop area, the energy dissipated per cycle.  A cycle
+    that does not end where it began (the first ones after the initial loading, a few per cent of
+    the width) also changes the stored elastic energy; closing its polygon would not measure the
+    dissipation either.  The traction work ``HysteresisRun.dissipation`` (sum of -q . ds) is the
+    dissipation itself, for every cycle.
     """
     F = np.asarray(forces, float)
     d = np.asarray(displacements, float)

@@ -6,6 +6,10 @@
   section 7, Paper D section 3.2): pull-off, adhesive force and area ratio against rms.
 - :mod:`.afm_pulloff`: pull-off of a colloidal probe on sub-windows ("spots") of a measured
   AFM scan (Paper C, vacuum state).
+- :mod:`.paper_d`: gross-slip onset of an adhesive smooth ball (Paper D Table 1) with its
+  resolution study; :mod:`.rough_slip`: a smooth ball on a rough flat (Paper D section 3.2).
+- :mod:`.paper_e`: adhesive friction hysteresis of dissimilar bodies (Paper E section 3.2).
+- :mod:`.paper_f`: polymer ball on a wafer, lateral stiffness at A, B, C (Paper F).
 """
 
 from .bisinusoidal import (
