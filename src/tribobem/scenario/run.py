@@ -240,6 +240,12 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         r["index"] = i
     converged = bool(rows) and all(bool(r.get("converged")) for r in rows)
     warns = list(pb.warnings) + list(out.get("warnings", []))
+    from ..output.checks import result_warnings
+
+    # Numbers the grid cannot back (edge contact, unresolved cohesive zone, ...): on the states
+    # the runner returned (before any fields selection).
+    warns += result_warnings(out.get("results") or [], periodic=pb.grid.periodic, interaction=pb.interaction,
+                             radius=pb.info.get("radius"))
     if not converged:
         bad = [i for i, r in enumerate(rows) if not r.get("converged")]
         where = ", ".join(str(i) for i in bad[:10]) + (", ..." if len(bad) > 10 else "")
