@@ -674,11 +674,12 @@ class _TangCG:
                 st.q[1, inside] += deficit[1] / n_in
                 _project(self.xp, st.q, st.bound)
 
-    def _exact(self):
-        """Exact K q, delta and slip s on the contact nodes."""
+    def _exact(self, recompute: bool = True):
+        """Exact K q (``recompute=False``: the state's K q is already exact), delta and slip s."""
         st, xp = self.st, self.xp
-        st.Kq = st._apply(st.q)
-        st.n_apply += 1
+        if recompute:
+            st.Kq = st._apply(st.q)
+            st.n_apply += 1
         s_raw = st.Kq + st.v0
         if st.force_control:
             if not bool(self.stick.any()):
@@ -691,7 +692,7 @@ class _TangCG:
         b = st.bound
         kii = st.kii
         q = st.q
-        s = self._exact()
+        s = self._exact(recompute=False)  # the projected-gradient state computed K q of this q
         if s is None:
             self.fatal = True
             return False, 0, "no stick node under force control (gross slip)"
