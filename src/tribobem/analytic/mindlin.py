@@ -400,7 +400,7 @@ def mindlin_unloading_displacement(Q, Q_star, *, P, a, mu, k):
     P, a, mu, k = _common(P, a, mu, k)
     Qs, r = _amplitude(Q_star, P, mu)
     x = _branch_force(Q, Qs, P, mu)
-    d0 = 3.0 * mu * P * k / (16.0 * a)
+    d0 = mindlin_delta0(P=P, a=a, mu=mu, k=k)
     A = _cbrt_pos(1.0 - (r - x) / 2.0) ** 2
     return _out(d0 * (2.0 * A - np.cbrt(1.0 - r) ** 2 - 1.0))
 
@@ -421,12 +421,8 @@ def mindlin_reloading_displacement(Q, Q_star, *, P, a, mu, k):
     P, a, mu, k : float
         Normal force (N), contact radius (m), friction coefficient, compliance (1/Pa).
     """
-    P, a, mu, k = _common(P, a, mu, k)
-    Qs, r = _amplitude(Q_star, P, mu)
-    x = _branch_force(Q, Qs, P, mu)
-    d0 = 3.0 * mu * P * k / (16.0 * a)
-    A = _cbrt_pos(1.0 - (r + x) / 2.0) ** 2
-    return _out(-d0 * (2.0 * A - np.cbrt(1.0 - r) ** 2 - 1.0))
+    # Masing: the reloading branch is the unloading branch mirrored through the origin.
+    return _out(-np.asarray(mindlin_unloading_displacement(-np.asarray(Q, dtype=float), Q_star, P=P, a=a, mu=mu, k=k)))
 
 
 def mindlin_unloading_stick_ratio(Q, Q_star, *, P, mu):
@@ -463,11 +459,8 @@ def mindlin_reloading_stick_ratio(Q, Q_star, *, P, mu):
     P, mu : float
         Normal force (N), friction coefficient.
     """
-    P = _pos("P", P)
-    mu = _pos("mu", mu)
-    Qs, r = _amplitude(Q_star, P, mu)
-    x = _branch_force(Q, Qs, P, mu)
-    return _out(_cbrt_pos(1.0 - (r + x) / 2.0))
+    # Masing: the reloading branch is the unloading branch mirrored through the origin.
+    return mindlin_unloading_stick_ratio(-np.asarray(Q, dtype=float), Q_star, P=P, mu=mu)
 
 
 def mindlin_unloading_stiffness(Q, Q_star, *, P, a, mu, k):
@@ -487,10 +480,8 @@ def mindlin_reloading_stiffness(Q, Q_star, *, P, a, mu, k):
 
     Parameters are those of :func:`mindlin_reloading_displacement`.
     """
-    P, a, mu, k = _common(P, a, mu, k)
-    Qs, r = _amplitude(Q_star, P, mu)
-    x = _branch_force(Q, Qs, P, mu)
-    return _out(8.0 * a / k * _cbrt_pos(1.0 - (r + x) / 2.0))
+    # Masing: the reloading branch is the unloading branch mirrored through the origin.
+    return mindlin_unloading_stiffness(-np.asarray(Q, dtype=float), Q_star, P=P, a=a, mu=mu, k=k)
 
 
 def mindlin_loop_energy(Q_star, *, P, a, mu, k) -> float:
