@@ -121,6 +121,8 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
     prob = summary.get("problem", {})
     if prob.get("tabor_parameter") is not None:
         console.print(f"Tabor parameter {prob['tabor_parameter']:.3g}, Maugis parameter {prob['maugis_parameter']:.3g}")
+    for w in summary.get("warnings") or []:
+        console.print(f"[bold yellow]warning:[/bold yellow] {escape(str(w))}")
     t = summary.get("timings", {})
     if t:
         console.print(f"time: {t.get('total', 0):.1f} s (solve {t.get('solve', 0):.1f} s)")
