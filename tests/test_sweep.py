@@ -252,3 +252,104 @@ def test_a_range_table_in_a_point_stays_a_value():
                     "friction.coefficient": 0.2}
     base = {"friction": {"coefficient": 0.1}}
     assert apply_overrides(base, flat)["friction"]["tangential_forces"]["num"] == 3
+
+
+# --------------------------------------------------------------------------------------
+# The hash covers the solver version and the solver options (issue 9 item 5)
+# --------------------------------------------------------------------------------------
+
+def test_point_hash_covers_solver_version_and_options(monkeypatch):
+    import tribobem._solver_version as sv
+    from tribobem.sweep import solver_options
+
+    base, point = {"grid": {"n": 8}}, {"x": 1}
+    h = point_hash("scenario", base, point, {"tolerance": 1e-10})
+    assert h == point_hash("scenario", base, point, {"tolerance": 1e-10}, solver_version=sv.SOLVER_VERSION)
+    assert h != point_hash("scenario", base, point, {"tolerance": 1e-10}, solver_version=sv.SOLVER_VERSION + 1)
+    assert h != point_hash("scenario", base, point, {"tolerance": 1e-9})
+    monkeypatch.setattr(sv, "SOLVER_VERSION", sv.SOLVER_VERSION + 1)  # read at call time
+    assert h != point_hash("scenario", base, point, {"tolerance": 1e-10})
+    # scenario runner: the schema's [solver] defaults, overridden by the base and the point
+    from tribobem.scenario.schema import SolverSpec
+
+    opts = solver_options("scenario", {"solver": {"tolerance": 1e-8}}, {"solver.max_iterations": 50})
+    assert set(opts) == set(SolverSpec.model_fields)
+    assert opts["tolerance"] == 1e-8 and opts["max_iterations"] == 50
+    assert opts["kernel"] == SolverSpec().kernel and opts["backend"] == SolverSpec().backend
+    # function runner: the function's plain keyword defaults that the base and point leave unset
+    opts = solver_options("function:tribobem.studies.bisinusoidal:pull_off_point", {"n": 32, "tol": 1e-6}, {})
+    assert opts["max_iterations"] == 20000 and opts["kernel"] == "spectral"
+    assert "tol" not in opts and "n" not in opts and "dgamma" not in opts  # given, or no default
+
+
+def test_scenario_points_recompute_when_a_solver_default_changes(monkeypatch):
+    import tribobem.sweep as sweep
+
+    spec = SweepSpec.from_dict({"base": {"kind": "normal", "grid": {"n": 8}}, "parameters": {"grid.n": [8, 16]}})
+    before = [h for h, _ in spec.tasks()]
+    defaults = sweep._scenario_solver_defaults()
+    assert [h for h, _ in spec.tasks()] == before  # stable
+    monkeypatch.setattr(sweep, "_scenario_solver_defaults", lambda: {**defaults, "tolerance": defaults["tolerance"] / 10})
+    after = [h for h, _ in spec.tasks()]
+    assert not set(after) & set(before)
+    # a tolerance written in the base is already the effective option: a changed default does not matter
+    spec = SweepSpec.from_dict({"base": {"kind": "normal", "solver": {"tolerance": 1e-7}}, "parameters": {"grid.n": [8]}})
+    h_new = spec.tasks()[0][0]
+    monkeypatch.setattr(sweep, "_scenario_solver_defaults", lambda: defaults)
+    assert spec.tasks()[0][0] == h_new
+
+
+def _point_module(folder: Path, tol: float) -> None:
+    """A module ``sweeppoint`` with ``point(x, tol=...)``: returns x and the tolerance used and
+    leaves one file per call (to count the computed points)."""
+    (folder / "sweeppoint.py").write_text(
+        "from pathlib import Path\n"
+        f"CALLS = Path({str(folder / 'calls')!r})\n"
+        f"def point(x, tol={tol!r}):\n"
+        "    CALLS.mkdir(exist_ok=True)\n"
+        "    (CALLS / f'{len(list(CALLS.iterdir()))}').write_text(str(x))\n"
+        "    return {'x': x, 'tol': tol}\n")
+
+
+def test_sweep_recomputes_after_a_solver_change_and_only_then(tmp_path, monkeypatch):
+    """The CLI sweep of a function: a restart computes nothing; a changed default tolerance of
+    the function, or a bumped solver version, recomputes every point."""
+    import importlib
+    import sys
+
+    from typer.testing import CliRunner
+
+    import tribobem._solver_version as sv
+    from tribobem.cli import app
+
+    mod_dir = tmp_path / "mod"
+    mod_dir.mkdir()
+    _point_module(mod_dir, 1e-9)
+    monkeypatch.syspath_prepend(str(mod_dir))
+    sys.modules.pop("sweeppoint", None)
+    (tmp_path / "s.toml").write_text('function = "sweeppoint:point"\noutputs = ["x", "tol"]\n'
+                                     '[parameters]\nx = [1, 2, 3]\n')
+    out = tmp_path / "out"
+    calls = mod_dir / "calls"
+
+    def sweep():
+        r = CliRunner().invoke(app, ["sweep", str(tmp_path / "s.toml"), "--out", str(out), "--scheduler",
+                                     "synchronous", "--json"])
+        assert r.exit_code == 0, r.output
+        return json.loads(r.stdout)
+
+    assert sweep()["n_run"] == 3 and len(list(calls.iterdir())) == 3
+    rec = next(iter(read_points(out).values()))
+    assert rec["solver_version"] == sv.SOLVER_VERSION
+    assert json.loads((out / "sweep.json").read_text())["solver_version"] == sv.SOLVER_VERSION
+    assert sweep()["n_run"] == 0 and len(list(calls.iterdir())) == 3    # resumed: nothing to do
+    _point_module(mod_dir, 1e-11)                                       # a new default tolerance
+    importlib.reload(importlib.import_module("sweeppoint"))
+    res = sweep()
+    assert res["n_run"] == 3 and res["n_done_before"] == 0 and len(list(calls.iterdir())) == 6
+    with open(out / "results.csv") as fh:
+        assert {float(r["tol"]) for r in csv.DictReader(fh)} == {1e-11}  # gathered: the new points only
+    assert sweep()["n_run"] == 0
+    monkeypatch.setattr(sv, "SOLVER_VERSION", sv.SOLVER_VERSION + 1)   # results of the solver changed
+    assert sweep()["n_run"] == 3 and len(list(calls.iterdir())) == 9
+    sys.modules.pop("sweeppoint", None)

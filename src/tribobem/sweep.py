@@ -20,9 +20,12 @@ Each point is the base scenario with the point's dotted keys overridden.  It run
 ``LocalCluster`` of processes by default, an existing scheduler given by its address, or
 ``"synchronous"`` (in-process, no Dask).  Every finished point is written at once and
 atomically to ``OUTDIR/points/<hash>.json``, the hash being a stable digest of what the
-point computes (runner, base and overrides), so a killed sweep loses no finished point and
-a restart with the same spec computes only the points without a successful record (failed
-points are retried).  At the end every point is gathered into ``OUTDIR/results.nc``
+point computes (runner, base and overrides, the point's effective solver options and the
+solver version :data:`tribobem._solver_version.SOLVER_VERSION`), so a killed sweep loses no
+finished point, a restart with the same spec computes only the points without a successful
+record (failed points are retried), and a restart after a change of the solver (a bumped
+solver version, a new default tolerance) recomputes every point instead of mixing old and new
+results.  At the end every point is gathered into ``OUTDIR/results.nc``
 (xarray; one dimension per parameter for a full grid, else a ``point`` dimension) and
 ``OUTDIR/results.csv``, both written atomically.
 """
@@ -49,6 +52,8 @@ from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
+from . import _solver_version
+from ._solver_version import SOLVER_VERSION  # noqa: F401 (re-exported; read at call time below)
 from .errors import InputError
 from .output.summary import atomic_path
 from .units import parse_quantity, si_unit, si_value
@@ -60,6 +65,8 @@ __all__ = [
     "run_sweep",
     "sweep_command",
     "point_hash",
+    "solver_options",
+    "SOLVER_VERSION",
     "read_points",
     "gather",
 ]
@@ -118,15 +125,110 @@ def _canonical(obj) -> str:
     return json.dumps(_jsonable(obj), sort_keys=True, separators=(",", ":"), ensure_ascii=True)
 
 
-def point_hash(runner: str, base: Mapping, point: Mapping) -> str:
+def point_hash(runner: str, base: Mapping, point: Mapping, solver: Mapping | None = None,
+               solver_version: int | None = None) -> str:
     """Stable 16-hex-digit digest of what a point computes.
 
-    It covers the runner (``"scenario"``, ``"function:module:attr"`` or ``"callable:..."``),
-    the base scenario (or fixed keyword arguments) and the point's overrides, so editing the
-    base invalidates every point while reordering the sweep file changes nothing.
+    Parameters
+    ----------
+    runner : str
+        ``"scenario"``, ``"function:module:attr"`` or ``"callable:..."``.
+    base : mapping
+        The base scenario (or the fixed keyword arguments of a function).
+    point : mapping
+        The point's overrides (dotted keys).
+    solver : mapping, optional
+        The point's effective solver options (:func:`solver_options`): the defaults that the
+        base and the point leave unset are part of what the point computes, so a changed
+        default (a tighter tolerance, another method) recomputes the point.
+    solver_version : int, optional
+        Default: :data:`tribobem._solver_version.SOLVER_VERSION` (read at each call), which is
+        bumped when results change.
+
+    Returns
+    -------
+    str
+        The first 16 hex digits of a SHA-256 of the canonical JSON of all of the above, so
+        editing the base, a solver default or the solver version invalidates every point,
+        while reordering the sweep file (or the keys of a table) changes nothing.
     """
-    text = _canonical({"runner": runner, "base": base, "point": point})
+    if solver_version is None:
+        solver_version = _solver_version.SOLVER_VERSION
+    text = _canonical({"runner": runner, "base": base, "point": point, "solver": dict(solver or {}),
+                       "solver_version": int(solver_version)})
     return hashlib.sha256(text.encode("ascii")).hexdigest()[:16]
+
+
+def _scenario_solver_defaults() -> dict:
+    """Defaults of the scenario's ``[solver]`` section (tolerance, max_iterations, ...), read
+    from the schema so that a new option or a changed default enters the hash by itself."""
+    from .scenario.schema import SolverSpec
+
+    out = {}
+    for name, info in SolverSpec.model_fields.items():
+        if not info.is_required():
+            out[name] = info.get_default(call_default_factory=True)
+    return out
+
+
+#: JSON scalar types a keyword default must have to enter the hash (a default object, e.g. a
+#: random generator, has no stable text and is left out).
+_PLAIN = (bool, int, float, str, type(None))
+
+
+def _plain(value) -> bool:
+    if isinstance(value, (list, tuple)):
+        return all(_plain(v) for v in value)
+    return isinstance(value, _PLAIN)
+
+
+def _function_defaults(dotted: str) -> dict:
+    """Plain keyword defaults of ``module:callable`` (its solver options: tol, max_iterations,
+    kernel, ...); empty when the function cannot be imported here (the point then fails with
+    that message when it runs)."""
+    import inspect
+
+    try:
+        fn = _resolve_function(dotted)
+        params = inspect.signature(fn).parameters.values()
+    except (InputError, TypeError, ValueError):
+        return {}
+    return {p.name: p.default for p in params
+            if p.default is not inspect.Parameter.empty and _plain(p.default)}
+
+
+def solver_options(runner: str, base: Mapping, point: Mapping, _defaults: Mapping | None = None) -> dict:
+    """The effective solver options of one point (what :func:`point_hash` covers beyond the
+    base and the overrides).
+
+    Scenario runner: the ``[solver]`` section of the point's scenario over the schema's
+    defaults (tolerance, max_iterations, backend, kernel, ...).  Function runner: the
+    function's plain keyword defaults that the base and the point leave unset (e.g.
+    ``tol``, ``max_iterations``, ``kernel`` of a study's point function).  Callable runner
+    (a Python function given to :func:`run_sweep`): none.
+
+    Parameters
+    ----------
+    runner : str
+        As for :func:`point_hash`.
+    base, point : mapping
+        Base scenario (or keyword arguments) and the point's dotted overrides.
+
+    Returns
+    -------
+    dict
+    """
+    if runner == "scenario":
+        defaults = _scenario_solver_defaults() if _defaults is None else dict(_defaults)
+        given = apply_overrides(base, point).get("solver")
+        if isinstance(given, Mapping):
+            defaults.update(given)
+        return defaults
+    if runner.startswith("function:"):
+        defaults = _function_defaults(runner[len("function:"):]) if _defaults is None else dict(_defaults)
+        given = apply_overrides(base, point)
+        return {k: v for k, v in defaults.items() if k not in given}
+    return {}
 
 
 #: Tables that are values of a scenario key, not nested sections: a range ``{start, stop, num}``.
@@ -346,9 +448,16 @@ class SweepSpec:
         return [{**pt, **combo} for pt in self.points for combo in combos]
 
     def tasks(self, runner: str | None = None) -> list[tuple[str, dict]]:
-        """``(hash, overrides)`` of every point."""
+        """``(hash, overrides)`` of every point (the hash includes the point's effective
+        solver options and the solver version, see :func:`point_hash`)."""
         runner = runner or self.runner
-        return [(point_hash(runner, self.base, o), o) for o in self.overrides()]
+        defaults = None  # the schema's or the function's defaults, looked up once per call
+        if runner == "scenario":
+            defaults = _scenario_solver_defaults()
+        elif runner.startswith("function:"):
+            defaults = _function_defaults(runner[len("function:"):])
+        return [(point_hash(runner, self.base, o, solver_options(runner, self.base, o, defaults)), o)
+                for o in self.overrides()]
 
     def __len__(self) -> int:
         return len(self.overrides())
@@ -466,6 +575,7 @@ def run_point(task: Mapping) -> dict:
     started = time.strftime("%Y-%m-%dT%H:%M:%S%z")
     record = {
         "version": RECORD_VERSION,
+        "solver_version": _solver_version.SOLVER_VERSION,
         "hash": task["hash"],
         "point": _jsonable(task["point"]),
         "status": "ok",
@@ -847,6 +957,7 @@ def run_sweep(
         "scenario": str(spec.scenario_path) if spec.scenario_path else None,
         "base": spec.base, "parameters": spec.parameters, "points": spec.points,
         "outputs": spec.outputs, "is_grid": spec.is_grid, "n_points": len(tasks),
+        "solver_version": _solver_version.SOLVER_VERSION,
         "hashes": [h for h, _ in tasks],
     }), indent=1) + "\n")
 
@@ -956,7 +1067,8 @@ def _run_distributed(todo, make_task, finish, scheduler, n_workers, quiet):
             except (KeyboardInterrupt, SystemExit):
                 raise
             except Exception as exc:  # the worker died, or the task could not run
-                rec = {"version": RECORD_VERSION, "hash": h, "point": _jsonable(o), "status": "failed",
+                rec = {"version": RECORD_VERSION, "solver_version": _solver_version.SOLVER_VERSION, "hash": h,
+                       "point": _jsonable(o), "status": "failed",
                        "outputs": {}, "error": f"{type(exc).__name__}: {exc}", "elapsed": None,
                        "finished": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
             finish(rec)

@@ -1,0 +1,36 @@
+"""The solver version: one integer, bumped on purpose when computed results change.
+
+It is not the package version.  The package version changes with every release, also for
+changes that leave every number as it was (a new CLI option, a faster FFT, a new example);
+the solver version changes only when a change to the solvers, the interactions, the load
+paths or a default of the scenario schema can change a result (a force, an area, a
+pull-off, a stick ratio) beyond the solver tolerance.
+
+Who reads it
+------------
+* :func:`tribobem.sweep.point_hash`: every sweep point's hash includes it (with the point's
+  effective solver options), so a sweep restarted after a bump recomputes its points instead of
+  gathering results of the old solver next to those of the new one.
+* ``tribobem --version`` prints it beside the package version.
+
+When to bump
+------------
+Bump :data:`SOLVER_VERSION` by one in the commit that changes results, and add a line to
+the history below saying what changed.  Do not bump it for refactorings, speed-ups or new
+features that reproduce the previous results to the solver tolerance (the validation
+suite and the published-number checks, ``tribobem validate --ci``, are the evidence).
+
+History
+-------
+1
+    First numbered version: Polonsky-Keer with Paper A's Dugdale extension (explicit
+    masks, the corrected force balance), the TangCG-type tangential solver with the
+    normal-tangential coupling loop, as of issue 9.
+"""
+
+from __future__ import annotations
+
+__all__ = ["SOLVER_VERSION"]
+
+#: Version of the numerical results (see the module docstring for when to bump it).
+SOLVER_VERSION: int = 1
