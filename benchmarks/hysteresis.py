@@ -33,6 +33,10 @@ def main(argv=None) -> dict:
     ap.add_argument("--amplitude", type=float, default=0.98,
                     help="F* / (mu F0+ at A); 0.999 is unreachable here: F0+ falls by ~1 %% along the loading")
     ap.add_argument("--quick", action="store_true", help="96^2, 1 cycle, 16 steps")
+    ap.add_argument("--tol", type=float, default=1e-10, help="normal solver tolerance")
+    ap.add_argument("--tangential-tol", type=float, default=1e-7)
+    ap.add_argument("--coupling-tol", type=float, default=1e-6)
+    ap.add_argument("--no-extrapolate", action="store_true", help="warm start from the last step only")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
     if args.quick:
@@ -42,26 +46,28 @@ def main(argv=None) -> dict:
     from tribobem.analytic.hertz import hertz
     from tribobem.elasticity.backend import Backend
     from tribobem.geometry import sphere
-    from tribobem.solvers import tangential as T
-    from tribobem.solvers import normal as N
+    from tribobem.solvers import coupling as C
+    from tribobem.solvers import hysteresis as H
     from tribobem.solvers.hysteresis import hysteresis_loop, loop_energies
+
+    H.EXTRAPOLATE = not args.no_extrapolate
 
     # Count tangential iterations and time the FFTs.
     counts = {"tangential_iterations": 0, "normal_iterations": 0, "fft_time": 0.0, "ffts": 0}
-    orig_t = T._Tangential.iterate
+    # Count the iterations of every inner solve (all coupling passes, both tangential methods).
+    orig_t, orig_n = C.solve_tangential, C.solve_normal
 
-    def t_iter(self):
-        counts["tangential_iterations"] += 1
-        return orig_t(self)
+    def t_solve(*a, **kw):
+        r = orig_t(*a, **kw)
+        counts["tangential_iterations"] += r.iterations
+        return r
 
-    T._Tangential.iterate = t_iter
-    orig_n = N._CGState.iterate
+    def n_solve(*a, **kw):
+        r = orig_n(*a, **kw)
+        counts["normal_iterations"] += r.iterations
+        return r
 
-    def n_iter(self):
-        counts["normal_iterations"] += 1
-        return orig_n(self)
-
-    N._CGState.iterate = n_iter
+    C.solve_tangential, C.solve_normal = t_solve, n_solve
     for name in ("rfft2", "irfft2"):
         fn = getattr(Backend, name)
 
@@ -85,12 +91,13 @@ def main(argv=None) -> dict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         run = hysteresis_loop(op, gap, normal_force=F0, friction_coefficient=mu, amplitude=args.amplitude, cycles=args.cycles,
-                              steps=args.steps, interaction=adhesion, tangential_tol=1e-7, coupling_tol=1e-6)
+                              steps=args.steps, interaction=adhesion, tol=args.tol,
+                              tangential_tol=args.tangential_tol, coupling_tol=args.coupling_tol)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     n_steps = len(run.steps) + 1
     F = [run.start.tangential.force_x] + [s.tangential.force_x for s in run.steps]
     D = [run.start.tangential.displacement_x] + [s.tangential.displacement_x for s in run.steps]
-    C = [0] + list(run.path.cycle)
+    cyc = [0] + list(run.path.cycle)
     out = {
         "grid": f"{args.n}^2 free boundary (padded {2 * args.n}^2)",
         "cycles": args.cycles, "steps_per_cycle": args.steps, "coupled_steps": n_steps,
@@ -101,7 +108,8 @@ def main(argv=None) -> dict:
         "fft_share": counts["fft_time"] / wall, "ffts": counts["ffts"],
         "peak_rss_MiB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
         "repulsive_force_uN": run.start.normal.repulsive_force * 1e6,
-        "loop_energy_J": loop_energies(F, D, C), "failed_steps": run.failed,
+        "tolerances": {"normal": args.tol, "tangential": args.tangential_tol, "coupling": args.coupling_tol},
+        "loop_energy_J": loop_energies(F, D, cyc), "failed_steps": run.failed,
     }
     if args.json:
         print(json.dumps(out, indent=2))

@@ -212,7 +212,8 @@ def test_displacement_controlled_ramp(beyond):
     assert len(steps) == 3
     np.testing.assert_allclose([st["displacement_x"] for st in steps], [0.0, 1e-10, 5e-10], rtol=1e-12, atol=0)
     f = [st["tangential_force_x"] for st in steps]
-    assert f[0] == pytest.approx(0.0, abs=1e-15) and 0 < f[1] < f[2]
+    # zero by symmetry, to the solver tolerances (tangential 1e-7 relative: 1e-8 mu F0 is tight)
+    assert f[0] == pytest.approx(0.0, abs=1e-8 * CAP) and 0 < f[1] < f[2]
     # 0.5 nm slides grossly: no stick node, the force at (about) the friction limit
     assert steps[-1]["gross_slip"] and steps[-1]["stick_area"] == 0.0
     assert 0.95 * CAP < f[2] <= CAP * (1 + 1e-9)

@@ -268,7 +268,12 @@ def test_coupling_leaves_a_slip_annulus_at_zero_force(paper_d):
     assert tangential_operator(d["op"]).coupled is True
     assert z.converged, z.message
     assert z.coupling_iterations > 1
-    assert z.coupling_history[-1] < 1e-7
+    # The outer loop stops on its estimated remaining error: check the actual pressure error
+    # against a loop converged far tighter (the default coupling_tol is 1e-7).
+    ref = solve_coupled(d["op"], d["gap"], friction_coefficient=MU_D, normal_force=d["F0"], coupling_tol=1e-12,
+                        tangential_tol=1e-10)
+    err = np.abs(z.normal.pressure - ref.normal.pressure).sum() / np.abs(ref.normal.pressure).sum()
+    assert err < 1e-7
     assert 0 < t.stick_ratio < 0.5
     assert t.slip_mask.sum() > 0.5 * t.contact.sum()
     # no net force, but shear on the slip nodes at the friction limit

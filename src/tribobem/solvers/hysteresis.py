@@ -39,6 +39,9 @@ from .coupling import solve_coupled
 from .slip_paths import direction_vector
 from .tangential import GrossSlipError
 
+#: Extrapolate the warm start of each step linearly from the last two (see ``solve_coupled``).
+EXTRAPOLATE = True
+
 __all__ = ["CyclePath", "cycle_path", "HysteresisRun", "hysteresis_loop", "loop_energies"]
 
 
@@ -217,7 +220,7 @@ def hysteresis_loop(
         path = cycle_path(peak, cycles, steps, control)
         run = HysteresisRun(start=start, steps=[], path=path, direction=e,
                             peak_force=peak if control == "force" else float("nan"))
-        prev = start
+        prev = older = start
         offset = np.zeros(2)
         gap_k = gap
         n_cycles = int(path.cycle.max())
@@ -231,10 +234,18 @@ def hysteresis_loop(
                 d_new = v * e
                 offset = offset + (d_new - d_prev)
                 gap_k = moving_gap(offset)
+            # Linear extrapolation of the warm start while the load keeps its direction (not across a
+            # turning point, where the state's history changes branch).
+            extra = None
+            if k >= 1 and EXTRAPOLATE:
+                v1 = path.values[k - 1]
+                v0 = path.values[k - 2] if k >= 2 else 0.0
+                if (v - v1) * (v1 - v0) > 0 and gap_k is gap:
+                    extra = (older, min((v - v1) / (v1 - v0), 2.0))
             try:
                 res = solve_coupled(operator, gap_k, friction_coefficient=mu, normal_force=normal_force,
                                     interaction=interaction, reference=prev.tangential.relative_displacement,
-                                    initial=prev, **load, **solver_kw)
+                                    initial=prev, extrapolate=extra, **load, **solver_kw)
             except GrossSlipError as exc:
                 raise GrossSlipError(
                     "friction.path.amplitude",
@@ -254,7 +265,7 @@ def hysteresis_loop(
             slip[c] = dl if slip[c] is None else slip[c] + dl
             run.steps.append(res)
             run.offsets.append(offset.copy())
-            prev = res
+            older, prev = prev, res
             if progress:
                 progress(k + 1, len(path.values))
         run.dissipation = [d for d in diss if d is not None]
