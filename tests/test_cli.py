@@ -213,3 +213,154 @@ def test_every_example_runs(example):
 def test_examples_exist():
     names = {e.stem for e in EXAMPLES}
     assert {"hertz_free_boundary", "rough_periodic", "afm_park_normal", "pulloff_sphere"} <= names
+
+
+# --------------------------------------------------------------------------------------
+# CLI polish (issue 9 item 5): --version, info on .npy, nan correlation length, piped
+# tables, boolean flags
+# --------------------------------------------------------------------------------------
+
+def _cli(*args, env=None):
+    """Run the CLI in a subprocess (stdout is a pipe, not a terminal)."""
+    import subprocess
+    import sys
+
+    return subprocess.run([sys.executable, "-m", "tribobem.cli", *map(str, args)], capture_output=True, text=True,
+                          env={**os.environ, **(env or {})}, timeout=300)
+
+
+def test_version_prints_package_and_solver_version():
+    from importlib.metadata import version
+
+    from tribobem._solver_version import SOLVER_VERSION
+
+    r = invoke("--version")
+    assert r.exit_code == 0
+    assert r.output.strip() == f"tribobem {version('tribobem')} (solver version {SOLVER_VERSION})"
+    p = _cli("--version")
+    assert p.returncode == 0 and p.stdout.strip() == r.output.strip()
+
+
+def _npy(tmp_path, heights, name="h.npy"):
+    import numpy as np
+
+    path = tmp_path / name
+    np.save(path, np.asarray(heights, dtype=float))
+    return path
+
+
+def test_info_reads_npy_with_size_and_unit(tmp_path):
+    import numpy as np
+
+    rng = np.random.default_rng(3)
+    h = rng.normal(size=(64, 32))                      # in nm
+    path = _npy(tmp_path, h)
+    r = invoke("info", path, "--size", "10 um,5 um", "--unit", "nm", "--json")
+    assert r.exit_code == 0, r.output
+    d = json.loads(r.stdout)
+    assert d["grid"] == [64, 32]
+    assert d["physical_size"] == pytest.approx([10e-6, 5e-6], rel=1e-12)
+    assert d["pixel_size"] == pytest.approx([10e-6 / 64, 5e-6 / 32], rel=1e-12)
+    assert d["rms_height"] == pytest.approx(np.std(h) * 1e-9, rel=1e-9)   # mean removed ("center")
+    # one length: a square scan; the size in another unit than the heights
+    d = json.loads(invoke("info", path, "--size", "0.002 mm", "--unit", "um", "--json").stdout)
+    assert d["physical_size"] == pytest.approx([2e-6, 2e-6], rel=1e-12)
+    assert d["rms_height"] == pytest.approx(np.std(h) * 1e-6, rel=1e-9)
+    # what is missing is named with the option that gives it
+    assert "--size" in _one_line_error(runner.invoke(app, ["info", str(path), "--unit", "nm"]))
+    assert "--unit" in _one_line_error(runner.invoke(app, ["info", str(path), "--size", "10 um"]))
+    assert "no unit" in _one_line_error(runner.invoke(app, ["info", str(path), "--size", "10", "--unit", "nm"]))
+    assert "info.size" in _one_line_error(runner.invoke(app, ["info", str(path), "--size", "1 um,2 um,3 um",
+                                                              "--unit", "nm"]))
+
+
+def test_nan_correlation_length_comes_with_reason_and_detrend_hint(tmp_path):
+    import numpy as np
+
+    from tribobem.geometry.stats import correlation_length
+    from tribobem.grid import Grid
+
+    # short-correlated roughness (rms 1 nm) on a tilt of 100 nm over the scan: with the mean
+    # removed only, the tilt dominates the autocorrelation, which never falls below 10 %
+    rng = np.random.default_rng(0)
+    n, L = 128, 1e-6
+    rough = rng.normal(size=(n, n))
+    rough = (rough + np.roll(rough, 1, 0) + np.roll(rough, 1, 1) + np.roll(rough, 1, (0, 1))) / 2.0
+    x = np.arange(n) / n
+    h = rough + 100.0 * x[:, None] + 0.0 * x[None, :]    # nm
+    path = _npy(tmp_path, h)
+    args = ("info", path, "--size", "1 um", "--unit", "nm")
+    d = json.loads(invoke(*args, "--json").stdout)
+    assert d["correlation_length"] is None
+    note = d["correlation_length_note"]
+    assert "10 %" in note and "half the scan" in note and "trend" in note and "--detrend height" in note
+    # the hint's value is the correlation length with that detrending
+    d2 = json.loads(invoke(*args, "--json", "--detrend", "height").stdout)
+    plane = d2["correlation_length"]
+    assert plane is not None and "correlation_length_note" not in d2
+    from tribobem.units import format_quantity
+
+    assert format_quantity(plane, "length") in note
+    g = Grid(n, n, L, L)
+    hp = (rough - rough.mean()) * 1e-9
+    assert plane == pytest.approx(correlation_length(hp - hp.mean(), g), rel=0.05)  # the roughness' own
+    r = invoke(*args)
+    assert r.exit_code == 0 and "nan (see the note below)" in r.output and "note:" in r.output
+    # a finite correlation length has no note; a flat surface says so
+    assert "correlation_length_note" not in json.loads(invoke("info", path, "--size", "1 um", "--unit", "nm",
+                                                              "--detrend", "curvature", "--json").stdout)
+    flat = _npy(tmp_path, np.zeros((16, 16)), "flat.npy")
+    d = json.loads(invoke("info", flat, "--size", "1 um", "--unit", "nm", "--json").stdout)
+    assert "flat" in d["correlation_length_note"]
+
+
+def test_tables_are_not_truncated_when_stdout_is_not_a_terminal(fake_validation, tmp_path):
+    long_quantity = "a quantity whose description is much longer than any terminal " * 3
+    row = _Row("hertz", True)
+    row.quantity = long_quantity.strip()
+    fake_validation["rows"][:] = [row]
+    r = invoke("validate")
+    assert r.exit_code == 0
+    assert row.quantity in r.output and "\u2026" not in r.output   # whole, on one line, no ellipsis
+    # a real pipe with a narrow $COLUMNS: every row of the info table whole
+    import numpy as np
+
+    path = _npy(tmp_path, np.random.default_rng(1).normal(size=(32, 32)))
+    p = _cli("info", path, "--size", "1 um", "--unit", "nm", env={"COLUMNS": "30"})
+    assert p.returncode == 0, p.stderr
+    lines = [line for line in p.stdout.splitlines() if "pixel size" in line]
+    assert len(lines) == 1 and "31.25 nm x 31.25 nm" in lines[0]
+
+
+def test_boolean_options_are_flags_shown_as_flags():
+    """Every boolean option of every command (but the demo's, declared with it) is a
+    --flag/--no-flag pair; no help shows a value type beside a flag."""
+    import inspect
+
+    checked = 0
+    for info in app.registered_commands:
+        name = info.name or info.callback.__name__.replace("_", "-")
+        text = runner.invoke(app, [name, "--help"]).output
+        assert "<bool>" not in text and "BOOLEAN" not in text, (name, text)
+        if name == "demo":
+            continue
+        for param in inspect.signature(info.callback).parameters.values():
+            if param.annotation in (bool, "bool"):
+                decls = param.default.param_decls
+                assert "/" in decls[0], f"{name} {decls}: a boolean option must be a --flag/--no-flag pair"
+                long_names = [d.strip() for d in decls[0].split("/")]
+                assert " / ".join(long_names) in text, (name, long_names)
+                checked += 1
+    assert checked >= 12
+    assert "--quick / --full" in invoke("validate", "--help").output
+
+
+def test_boolean_flags_are_accepted_with_their_negative(tmp_path):
+    p = _write(tmp_path, GOOD)
+    r = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "a"), "--json", "--no-json", "--quiet"])
+    assert r.exit_code == 0, r.output
+    assert not r.stdout.lstrip().startswith("{")       # --no-json after --json: no JSON
+    r = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "b"), "--no-quiet"])
+    assert r.exit_code == 0 and "tribobem normal run" in r.output
+    r = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "c"), "--quiet", "true"])
+    assert r.exit_code == 2                            # a flag takes no value

@@ -1,8 +1,11 @@
 """The ``tribobem`` command line (Typer).
 
-Commands: ``demo``, ``run SCENARIO.toml``, ``validate``, ``info TOPOGRAPHY``, ``plot RESULT``.
+Commands: ``demo``, ``run SCENARIO.toml``, ``sweep SWEEP.toml``, ``validate``, ``info TOPOGRAPHY``,
+``plot RESULT``, ``compare-loop RESULT LOOP.csv``; ``tribobem --version``.
 Errors in the user's input (bad scenario keys, units, ranges, unreadable files, grids too
-large for memory) print one red line and exit with code 2, never a traceback.
+large for memory) print one red line and exit with code 2, never a traceback.  Help is plain
+text (every boolean option shows as a flag, ``--quiet / --no-quiet``); tables printed to a
+pipe or a file are never truncated (see :func:`_stdout`).
 """
 
 from __future__ import annotations
@@ -30,6 +33,9 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # Plain click help: Typer's Rich panels print a "<bool>" type beside every flag, which
+    # reads as if the flag took a value; the plain form shows "-q, --quiet / --no-quiet".
+    rich_markup_mode=None,
 )
 
 #: Exit code of input errors (bad scenario, unreadable file, grid too large).
@@ -37,11 +43,49 @@ EXIT_INPUT = 2
 #: Exit code of ``validate`` when a case fails.
 EXIT_FAILED = 1
 
+
+def package_version() -> str:
+    """The installed package version (the distribution's metadata, else ``tribobem.__version__``)."""
+    try:
+        from importlib.metadata import PackageNotFoundError, version
+
+        return version("tribobem")
+    except (ImportError, PackageNotFoundError):  # pragma: no cover - run from a source tree
+        from . import __version__
+
+        return __version__
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        from ._solver_version import SOLVER_VERSION
+
+        _stdout().print(f"tribobem {package_version()} (solver version {SOLVER_VERSION})")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(
+    version: bool = typer.Option(False, "--version", callback=_print_version, is_eager=True,
+                                 help="Print the package version and the solver version, and exit."),
+):
+    """FFT-accelerated boundary-element contact mechanics: adhesive, frictional contact of rough surfaces."""
+
 DEMO_FILE = "example_ps.tiff"
 
 
+#: Console width when stdout is not a terminal (a pipe, a file, a CI log): Rich would fall back to
+#: 80 columns (or $COLUMNS) and cut table cells with an ellipsis; a table is only as wide as its
+#: content, so a wide console prints every cell whole.
+PIPE_WIDTH = 10_000
+
+
 def _stdout() -> Console:
-    return Console(highlight=False, soft_wrap=True)
+    """The stdout console: the terminal's width on a terminal, :data:`PIPE_WIDTH` otherwise."""
+    console = Console(highlight=False, soft_wrap=True)
+    if not console.is_terminal:
+        console = Console(highlight=False, soft_wrap=True, width=PIPE_WIDTH)
+    return console
 
 
 def _stderr() -> Console:
@@ -216,8 +260,8 @@ def demo(
 def run(
     scenario: Path = typer.Argument(..., help="Scenario file (TOML)."),
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Result folder (default: results/<scenario name>)."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or tables."),
-    as_json: bool = typer.Option(False, "--json", help="Print summary.json to stdout."),
+    quiet: bool = typer.Option(False, "--quiet/--no-quiet", "-q", help="No progress bar or tables."),
+    as_json: bool = typer.Option(False, "--json/--no-json", help="Print summary.json to stdout."),
 ):
     """Run a scenario file and write summary.json, fields.nc, figures and report.html."""
     with _user_errors():
@@ -234,8 +278,8 @@ def sweep(
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Results folder (default: results/<stem>)."),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler ADDRESS, 'local' or 'synchronous'."),
     workers: Optional[int] = typer.Option(None, "--workers", help="Workers of the local cluster."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar or messages."),
-    as_json: bool = typer.Option(False, "--json", help="Print the sweep result as JSON."),
+    quiet: bool = typer.Option(False, "--quiet/--no-quiet", "-q", help="No progress bar or messages."),
+    as_json: bool = typer.Option(False, "--json/--no-json", help="Print the sweep result as JSON."),
 ):
     """Run a scenario over a grid of parameters (Dask; resumable: finished points are kept)."""
     with _user_errors():
@@ -253,9 +297,9 @@ def sweep(
 @app.command()
 def validate(
     quick: bool = typer.Option(True, "--quick/--full", help="Quick (small grids) or full validation."),
-    as_json: bool = typer.Option(False, "--json", help="Print the rows as JSON."),
+    as_json: bool = typer.Option(False, "--json/--no-json", help="Print the rows as JSON."),
     case: Optional[list[str]] = typer.Option(None, "--case", help="Run only these cases (repeatable)."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="No spinner."),
+    quiet: bool = typer.Option(False, "--quiet/--no-quiet", "-q", help="No spinner."),
 ):
     """Run the analytic validation cases and print a table of errors (exit 1 if any fails)."""
     with _user_errors():
@@ -317,24 +361,26 @@ def _g(v, fmt: str = ".5g") -> str:
 @app.command()
 def info(
     topography: Path = typer.Argument(..., help="Topography file (AFM, confocal, .x3p, .npy, text, ...)."),
-    as_json: bool = typer.Option(False, "--json", help="Print the statistics as JSON."),
+    as_json: bool = typer.Option(False, "--json/--no-json", help="Print the statistics as JSON."),
     channel: Optional[str] = typer.Option(None, "--channel", help="Channel name or index."),
     detrend: str = typer.Option("center", "--detrend", help="none | center | height | curvature"),
-    unit: Optional[str] = typer.Option(None, "--unit", help="Length unit, for files that do not store one."),
+    unit: Optional[str] = typer.Option(None, "--unit", help="Length unit of the heights, for files that do not "
+                                                              "store one (.npy, text), e.g. nm."),
+    size: Optional[str] = typer.Option(None, "--size", help="Physical size of the scan, for files that do not store "
+                                                              "it (.npy, text): 'L' (square) or 'LX,LY', with units, "
+                                                              "e.g. '10 um' or '10 um,5 um'."),
 ):
     """Read a measured topography and print its size and statistics (SI after detrending)."""
     with _user_errors():
-        from .geometry import read_topography
         from .units import format_quantity
 
         if not topography.exists():
             raise FileNotFoundError(f"topography file {topography} not found")
         ch = int(channel) if channel is not None and channel.isdigit() else channel
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            topo = read_topography(topography, channel=ch, detrend=detrend, unit=unit)
+        topo = _read_for_info(topography, ch, detrend, unit, _parse_size(size))
         st = topo.stats()
         g = topo.grid
+        note = _correlation_note(topo, detrend, st)
         record = {
             "path": str(topography),
             "format": topo.info.get("format", ""),
@@ -349,6 +395,8 @@ def info(
             "filled_points": topo.info.get("filled_points", 0),
             **{k: v for k, v in st.items()},
         }
+        if note:
+            record["correlation_length_note"] = note
         if as_json:
             from .output.summary import jsonable
 
@@ -357,6 +405,7 @@ def info(
         table = Table(title=f"{topography.name}", show_header=False)
         table.add_column("", justify="left", style="bold")
         table.add_column("", justify="left")
+        corr = st.get("correlation_length")
         rows = [
             ("format", f"{record['format']} {('(' + record['instrument'] + ')') if record['instrument'] else ''}".strip()),
             ("channel", f"{record['channel']} (of {len(record['channels'])})"),
@@ -370,21 +419,107 @@ def info(
             ("rms curvature", f"{st.get('rms_curvature', float('nan')):.4g} 1/m"),
             ("skewness", f"{st.get('skewness', float('nan')):.4g}"),
             ("kurtosis", f"{st.get('kurtosis', float('nan')):.4g}"),
-            ("correlation length", format_quantity(st.get("correlation_length"), "length")),
+            ("correlation length", format_quantity(corr, "length") if corr == corr else "nan (see the note below)"),
             ("peak to valley", format_quantity(st.get("peak_to_valley"), "length")),
         ]
         if record["filled_points"]:
             rows.append(("filled points", str(record["filled_points"])))
         for a, b in rows:
             table.add_row(a, escape(b))
-        _stdout().print(table)
+        console = _stdout()
+        console.print(table)
+        if note:
+            console.print(f"[bold yellow]note:[/bold yellow] {escape(note)}")
+
+
+def _parse_size(size: str | None) -> tuple[float, float] | None:
+    """``--size``: 'L' or 'LX,LY' (lengths with units) -> (lx, ly) in m."""
+    if size is None:
+        return None
+    from .units import to_si
+
+    parts = [s.strip() for s in size.replace(";", ",").split(",") if s.strip()]
+    if len(parts) not in (1, 2):
+        raise InputError("info.size", f"give one length (square scan) or two separated by a comma, e.g. "
+                                      f"'10 um' or '10 um,5 um'; got {size!r}")
+    sizes = []
+    for s in parts:
+        if not any(c.isalpha() for c in s):
+            raise InputError("info.size", f"{s!r} has no unit; write it with one, e.g. '{s} um'")
+        v = to_si(s, "length", "info.size")
+        if not (v > 0 and v != float("inf")):
+            raise InputError("info.size", f"must be a finite length > 0, got {s!r}")
+        sizes.append(v)
+    return (sizes[0], sizes[-1])
+
+
+def _read_for_info(path: Path, channel, detrend: str, unit: str | None, size_m: tuple[float, float] | None):
+    """Read a topography for ``info``, with ``--size`` in SI and the CLI's names in the errors."""
+    from .geometry import read_topography
+    from .geometry.topography import unit_to_metres
+
+    def read(physical_sizes):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                return read_topography(path, channel=channel, detrend=detrend, unit=unit,
+                                       physical_sizes=physical_sizes)
+            except TopographyError as exc:
+                if exc.field == "topography.physical_sizes":
+                    raise TopographyError(exc.field, f"{str(exc).split(': ', 1)[-1].rstrip('. ')}; give the scan's size with "
+                                          "--size, e.g. --size '10 um' (square) or --size '10 um,5 um'") from None
+                if exc.field == "topography.unit":
+                    raise TopographyError(exc.field, f"{path} does not say the length unit of its heights; give "
+                                          "it with --unit, e.g. --unit nm") from None
+                raise
+
+    if size_m is None:
+        return read(None)
+    # read_topography takes the sizes in the heights' unit: --unit, else the file's own
+    # (read once with placeholder sizes to learn it; heights do not depend on the sizes).
+    file_unit = unit if unit is not None else read((1.0, 1.0)).info.get("original_unit")
+    factor = unit_to_metres(file_unit, "info.unit")
+    return read(tuple(s / factor for s in size_m))
+
+
+def _correlation_note(topo, detrend: str, stats: dict) -> str | None:
+    """Why the correlation length is NaN, and which ``--detrend`` gives one (None if finite)."""
+    corr = stats.get("correlation_length")
+    if corr is not None and corr == corr:
+        return None
+    import numpy as np
+
+    from .geometry.stats import correlation_length
+    from .geometry.topography import DETREND_MODES, detrend_heights
+    from .units import format_quantity
+
+    g = topo.grid
+    if not stats.get("rms_height"):
+        return "correlation length nan: the surface is flat (rms height 0) after detrending"
+    half = format_quantity(min(g.lx, g.ly) / 2, "length")
+    reason = (f"correlation length nan: the height autocorrelation does not fall below 10 % of its peak within "
+              f"half the scan ({half}); with --detrend {detrend} the heights are dominated by a trend (tilt, "
+              "curvature) or by wavelengths longer than the scan")
+    # Stronger detrending removes more of the trend: try the modes after the current one.
+    order = list(DETREND_MODES)
+    later = order[order.index(detrend) + 1:] if detrend in order else order
+    rms = float(stats["rms_height"])
+    for mode in later:
+        h = detrend_heights(topo.heights, g, mode)
+        if float(np.sqrt(np.mean(h**2))) <= 1e-9 * rms:
+            return f"{reason}. The heights are a pure trend: with --detrend {mode} nothing is left"
+        c = correlation_length(h, g)
+        if c == c:
+            return f"{reason}. Change the detrending: with --detrend {mode} it is {format_quantity(c, 'length')}"
+    return (f"{reason}. Change the detrending (--detrend height or curvature); here none gives one, so the "
+            "scan is shorter than about two correlation lengths: use a larger scan")
 
 
 # ----------------------------------------------------------------------------- plot
 @app.command()
 def plot(
     result: Path = typer.Argument(..., help="Result folder (with summary.json and fields.nc)."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print nothing but errors."),
+    quiet: bool = typer.Option(False, "--quiet/--no-quiet", "-q", help="Print nothing but errors."),
 ):
     """Re-make the figures and report.html of a result folder from its files."""
     with _user_errors():
@@ -409,8 +544,8 @@ def compare_loop(
     out: Optional[Path] = typer.Option(None, "--out", "-o", help="Figure (PNG; default RESULT/compare_loop.png)."),
     center: bool = typer.Option(True, "--center/--no-center", help="Centre each loop's displacement range on 0 "
                                                                    "in the overlay."),
-    as_json: bool = typer.Option(False, "--json", help="Print the comparison as JSON."),
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print only the figure path."),
+    as_json: bool = typer.Option(False, "--json/--no-json", help="Print the comparison as JSON."),
+    quiet: bool = typer.Option(False, "--quiet/--no-quiet", "-q", help="Print only the figure path."),
 ):
     """Overlay a measured friction loop on a simulated one and compare K_L at A, B, C (Paper F).
 
