@@ -1,5 +1,6 @@
-"""Result checks: each warning fires on a state that should trigger it, and not on one that
-should not (issue 9 item 1, the part the tangential kinds need)."""
+"""Result checks (issue 9 item 1): each warning fires on a state that should trigger it, and not
+on one that should not; the measures behind them (cohesive width, gap step, patch width) against
+shapes whose answer is known; computed against expected values."""
 
 from __future__ import annotations
 
@@ -9,39 +10,108 @@ import numpy as np
 import pytest
 
 from tribobem import DugdaleAdhesion, Grid
-from tribobem.output.checks import cohesive_cells, result_warnings
-from tribobem.results import NormalResult
+from tribobem.output.checks import (CHECKS, cohesive_cells, cohesive_gap_step, compare_expected, patch_width,
+                                    result_warnings, scan_pixel, stick_zone_width, warning_names)
+from tribobem.results import NormalResult, TangentialResult
+
+ADH = DugdaleAdhesion(0.05, 0.3e-9)
+H0 = ADH.h0
 
 
-def state(n=64, contact_r=10, adhesive_r=None, center=(32, 32), size=1e-6):
-    g = Grid.square(n, size)
+def _radius(n, center):
     i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    r = np.hypot(i + 0.5 - center[0], j + 0.5 - center[1])
+    return np.hypot(i + 0.5 - center[0], j + 0.5 - center[1])
+
+
+def state(n=64, contact_r=10, adhesive_r=None, center=(32, 32), size=1e-6, gap=None):
+    """A disc of contact (radius in cells), optionally a cohesive ring to ``adhesive_r``; the gap
+    rises linearly from 0 at the contact edge to h0 at the ring's edge, and by h0 per ring width
+    beyond it (a resolved Maugis-Dugdale-like profile) unless ``gap`` is given."""
+    g = Grid.square(n, size)
+    r = _radius(n, center)
     contact = r < contact_r
     adhesive = (r < adhesive_r) & ~contact if adhesive_r else np.zeros_like(contact)
     p = np.where(contact, 1e6, np.where(adhesive, -1e5, 0.0))
+    if gap is None:
+        w = (adhesive_r - contact_r) if adhesive_r else 1.0
+        gap = np.where(contact, 0.0, H0 * np.maximum(r - contact_r, 0.0) / w)
+        if not adhesive_r:
+            gap = np.where(contact, 0.0, np.maximum(gap, 1.5 * H0))
     z = np.zeros((n, n))
-    return NormalResult(grid=g, pressure=p, gap=z, displacement=z, contact=contact, adhesive=adhesive, force=1.0,
+    return NormalResult(grid=g, pressure=p, gap=gap, displacement=z, contact=contact, adhesive=adhesive, force=1.0,
                         approach=0.0, iterations=1, residual_history=np.array([0.0]), converged=True, time=0.0)
 
 
-ADH = DugdaleAdhesion(0.05, 0.3e-9)
+def tangential(n=64, contact_r=20, stick_r=10, gross_slip=False, size=1e-6):
+    """A contact disc with a central stick disc of radius ``stick_r`` cells (Cattaneo-like)."""
+    g = Grid.square(n, size)
+    r = _radius(n, (n / 2, n / 2))
+    contact = r < contact_r
+    stick = (r < stick_r) & contact if not gross_slip else np.zeros_like(contact)
+    z2 = np.zeros((2, n, n))
+    return TangentialResult(grid=g, shear=z2, slip=z2, relative_displacement=z2, contact=contact, stick=stick,
+                            force_x=0.0, force_y=0.0, displacement_x=0.0, displacement_y=0.0, friction_coefficient=0.3,
+                            mode="total", control="force", iterations=1, residual_history=np.array([0.0]),
+                            converged=True, gross_slip=gross_slip, time=0.0)
 
 
+def names(ws):
+    return warning_names(ws)
+
+
+# ----------------------------------------------------------------------------- measures
 def test_cohesive_width_estimate_of_a_ring():
     # ring from 10 to 16 cells: width 6 cells (area / outer perimeter slightly less for a ring)
     w = cohesive_cells(state(contact_r=10, adhesive_r=16))
     assert 4.0 < w < 7.0
 
 
+@pytest.mark.parametrize("diameter", [1, 3, 5, 9, 21])
+def test_patch_width_of_odd_squares_is_exact(diameter):
+    m = np.zeros((40, 40), bool)
+    m[5:5 + diameter, 7:7 + diameter] = True
+    assert patch_width(m, 2e-9) == pytest.approx(diameter * 2e-9, rel=1e-12)
+
+
+def test_patch_width_of_discs_rings_and_empty_masks():
+    r = _radius(128, (64, 64))
+    for radius in (5, 12, 30):
+        # the cells whose centres lie within a circle of diameter D: the staircase edge cuts
+        # into the inscribed disc by up to about 1.4 cells (D = 10: 8.94, the corner (4, 2) of the
+        # first cell outside)
+        assert 2 * radius - 1.5 <= patch_width(r < radius, 1.0) <= 2 * radius
+    assert patch_width(r < 5, 1.0) == pytest.approx(2 * math.hypot(4, 2), rel=1e-12)
+    ring = (r >= 20) & (r < 26)  # 6 cells wide, whatever its circumference
+    assert 4.5 <= patch_width(ring, 1.0) <= 7.0  # staircase: within about a cell of 6
+    assert patch_width(np.zeros((8, 8), bool), 1.0) == 0.0
+    # the largest patch decides: a big disc and a speck
+    m = (r < 10) | (_radius(128, (110, 110)) < 1)
+    assert patch_width(m, 1.0) == patch_width(r < 10, 1.0) > 18.8
+
+
+def test_gap_step_of_a_resolved_and_of_a_missing_cohesive_zone():
+    resolved = state(contact_r=10, adhesive_r=18)  # gap climbs h0 over 8 cells: steps ~ h0/8
+    assert cohesive_gap_step(resolved) < 0.25 * H0
+    bare = state(contact_r=10)  # no cohesive node: contact next to g = 1.5 h0
+    assert cohesive_gap_step(bare) == pytest.approx(1.5 * H0, rel=1e-12)
+
+
+def test_scan_pixel_takes_the_coarsest_measured_file():
+    files = {"body1.roughness": {"scan_grid": [512, 512], "scan_size": [1e-6, 1e-6]},
+             "body2.roughness": {"scan_grid": [100, 50], "scan_size": [1e-6, 1e-6]}}
+    assert scan_pixel(files) == (pytest.approx(2e-8), "body2.roughness")
+    assert scan_pixel(None) is None and scan_pixel({}) is None
+
+
+# ----------------------------------------------------------------------------- the checks
 def test_no_warning_for_a_resolved_centred_contact():
     assert result_warnings([state(contact_r=10, adhesive_r=18)], periodic=False, interaction=ADH, radius=1e-3) == []
 
 
 def test_edge_contact_warns_on_free_boundary_only():
     s = state(contact_r=10, center=(5, 32))
-    assert any(w.startswith("edge:") for w in result_warnings([s], periodic=False))
-    assert not any(w.startswith("edge:") for w in result_warnings([s], periodic=True))
+    assert "edge" in names(result_warnings([s], periodic=False))
+    assert "edge" not in names(result_warnings([s], periodic=True))
 
 
 @pytest.mark.parametrize("adhesive_r, text", [(11.5, "cells wide"), (None, "narrower than one cell")])
@@ -49,25 +119,107 @@ def test_unresolved_cohesive_zone_warns(adhesive_r, text):
     ws = result_warnings([state(contact_r=10, adhesive_r=adhesive_r)], periodic=False, interaction=ADH)
     assert any(w.startswith("cohesive_zone:") and text in w for w in ws)
     # without adhesion the check does not apply
-    assert not any(w.startswith("cohesive_zone:") for w in result_warnings([state(contact_r=10)], periodic=False))
+    assert "cohesive_zone" not in names(result_warnings([state(contact_r=10)], periodic=False))
+
+
+def test_cohesive_range_warns_where_the_gap_jumps_over_h0():
+    # A cohesive ring 8 cells wide on one half of the contact only; on the other half the
+    # contact borders nodes at g = 3 h0 (a steep flank).  The area/perimeter width is ~4 cells
+    # (no cohesive_zone warning), but the gap crosses the whole range within one cell there.
+    n = 64
+    r = _radius(n, (32, 32))
+    i = np.arange(n)[:, None] * np.ones(n)[None, :]
+    contact = r < 10
+    adhesive = (r < 18) & ~contact & (i >= 32)
+    gap = np.where(contact, 0.0, np.where(adhesive, H0 * (r - 10) / 8, 3.0 * H0))
+    s = state(contact_r=10, gap=gap)
+    s.adhesive = adhesive
+    ws = result_warnings([s], periodic=False, interaction=ADH)
+    assert "cohesive_range" in names(ws) and "cohesive_zone" not in names(ws)
+    assert any("3 h0" in w for w in ws if w.startswith("cohesive_range:"))
+    # the resolved ring of the same width all round: no cohesive_range
+    assert "cohesive_range" not in names(result_warnings([state(contact_r=10, adhesive_r=18)], periodic=False,
+                                                         interaction=ADH))
 
 
 def test_full_contact_and_large_contact_warn():
     s = state(contact_r=60)  # covers ~ all of a 64^2 domain
-    ws = result_warnings([s], periodic=True)
-    assert any(w.startswith("full_contact:") for w in ws)
+    assert "full_contact" in names(result_warnings([s], periodic=True))
     # contact radius ~ 10 cells x 15.6 nm = 0.16 um against R = 1 um: a/R = 0.16 > 0.1
-    ws = result_warnings([state(contact_r=10)], periodic=False, radius=1e-6)
-    assert any(w.startswith("large_contact:") for w in ws)
-    assert not any(w.startswith("large_contact:") for w in result_warnings([state(contact_r=10)], periodic=False,
-                                                                            radius=1e-4))
+    assert "large_contact" in names(result_warnings([state(contact_r=10)], periodic=False, radius=1e-6))
+    assert "large_contact" not in names(result_warnings([state(contact_r=10)], periodic=False, radius=1e-4))
 
 
-def test_the_demo_states_its_unresolved_cohesive_zone():
-    # The built-in demo's cohesive range is a fraction of a cell (issue 9): it must now say so.
-    from tribobem.cli import demo_scenario
-    from tribobem.scenario import run_scenario
+def test_contact_of_a_few_cells_warns():
+    # 2 x 2 cells: fewer than 3 across; the warning names the state's largest patch
+    assert "contact_cells" in names(result_warnings([state(contact_r=1.2)], periodic=True))
+    # one state with a resolved disc and one with a speck: the speck decides
+    both = [state(contact_r=10), state(contact_r=0.8)]
+    assert "contact_cells" in names(result_warnings(both, periodic=True))
+    assert "contact_cells" not in names(result_warnings([state(contact_r=10)], periodic=True))
 
-    sc, _ = demo_scenario(small=True)
-    s = run_scenario(sc, progress=False).summary
-    assert any(w.startswith("cohesive_zone:") for w in s["warnings"])
+
+def test_topography_pixels_larger_than_the_contact_warn():
+    s = state(contact_r=10)  # 20 cells of 15.6 nm = 0.31 um across
+    coarse = {"body1.roughness": {"scan_grid": [64, 64], "scan_size": [10e-6, 10e-6]}}  # 0.16 um pixels
+    fine = {"body1.roughness": {"scan_grid": [512, 512], "scan_size": [1e-6, 1e-6]}}  # 2 nm pixels
+    ws = result_warnings([s], periodic=False, files=coarse)
+    assert "topography_pixels" in names(ws) and "contact_cells" not in names(ws)
+    assert any("body1.roughness" in w for w in ws)
+    assert result_warnings([s], periodic=False, files=fine) == []
+
+
+def test_stick_zone_of_two_cells_warns_in_a_partial_slip_run():
+    n = state()
+    # every partial-slip state has a stick disc 2-3 cells across at most
+    ramp = [tangential(stick_r=1.5), tangential(stick_r=1.0)]
+    ws = result_warnings([n, n], periodic=False, tangential=ramp)
+    assert "stick_zone" in names(ws) and any("at most" in w for w in ws)
+    # resolved stick zones (20 cells), then the gross-slip onset (a last speck of stick) and
+    # gross slip: no warning, the run says it slides
+    ramp = [tangential(stick_r=10), tangential(stick_r=5), tangential(stick_r=0.8), tangential(gross_slip=True)]
+    assert result_warnings([n] * 4, periodic=False, tangential=ramp, gross_slip=True) == []
+    # the same resolved start, but a run that claims to end in partial slip with a 1-cell stick zone
+    ramp = [tangential(stick_r=10), tangential(stick_r=0.8)]
+    ws = result_warnings([n, n], periodic=False, tangential=ramp, gross_slip=False)
+    assert any(w.startswith("stick_zone:") and "ends in partial slip" in w for w in ws)
+    assert "stick_zone" not in names(result_warnings([n, n], periodic=False, tangential=ramp[:1] * 2,
+                                                     gross_slip=False))
+    dx = 1e-6 / 64
+    assert 18.5 * dx <= stick_zone_width(tangential(stick_r=10)) <= 20 * dx  # the stick disc, not the contact
+
+
+def test_warning_names_and_the_schema_agree():
+    from tribobem.scenario.schema import CHECK_NAMES
+
+    assert tuple(CHECK_NAMES) == CHECKS
+    ws = ["edge: x", "cohesive_zone: y", "body1.roughness: a measured topography is not periodic", "edge: again"]
+    assert warning_names(ws) == ["edge", "cohesive_zone"]
+
+
+# ----------------------------------------------------------------------------- expected values
+def test_compare_expected_reads_run_and_step_keys():
+    summary = {"pull_off_force": -0.2574e-6, "steps": [{"index": 0, "contact_area": 1.0e-14},
+                                                        {"index": 1, "contact_area": 2.0e-14}],
+               "warnings": ["cohesive_zone: narrow"]}
+    out = compare_expected(summary, {"values": {"pull_off_force": -0.25e-6}, "tolerance": 0.03,
+                                     "reference": "Maugis-Dugdale"})
+    (row,) = out["values"]
+    assert row["where"] == "run" and row["relative_error"] == pytest.approx(0.0296, rel=1e-9) and row["within"]
+    assert out["met"]
+    out = compare_expected(summary, {"values": {"pull_off_force": -0.25e-6}, "tolerance": 0.02, "reference": "x"})
+    assert not out["met"] and not out["values"][0]["within"]
+    # step keys: the last step by default, or the one named
+    out = compare_expected(summary, {"values": {"contact_area": 2.0e-14}, "tolerance": 0.01, "reference": "x"})
+    assert out["met"] and out["values"][0]["where"] == "step 1"
+    out = compare_expected(summary, {"values": {"contact_area": 2.0e-14}, "tolerance": 0.01, "step": 0,
+                                     "reference": "x"})
+    assert not out["met"] and out["values"][0]["computed"] == 1.0e-14
+    # expected warnings: present or not
+    assert compare_expected(summary, {"warnings": ["cohesive_zone"], "reference": "q"})["met"]
+    assert not compare_expected(summary, {"warnings": ["edge"], "reference": "q"})["met"]
+    # a key the run does not have is never met
+    assert not compare_expected(summary, {"values": {"static_friction_force": 1.0}, "tolerance": 0.5,
+                                          "reference": "x"})["met"]
+    assert compare_expected(summary, None) is None
+    assert math.isclose(out["tolerance"], 0.01)

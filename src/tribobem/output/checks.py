@@ -1,6 +1,7 @@
 """Sanity and resolution checks of a run's results: numbers the grid cannot back get a warning.
 
-Each check looks at the solved states (not at the inputs), so it holds for any geometry:
+Each check looks at the solved states (not at the inputs), so it holds for any geometry.  Each
+warning starts with the check's name and a colon (:data:`CHECKS`):
 
 * ``edge``: on a free-boundary grid the contact or the cohesive zone touches the domain edge
   (the zero-padded operator then truncates the load: enlarge the domain);
@@ -8,30 +9,61 @@ Each check looks at the solved states (not at the inputs), so it holds for any g
   than :data:`MIN_COHESIVE_CELLS` cells (its width estimated as adhesive area over the outer
   perimeter, exact for a thin ring), or narrower than one cell (no cohesive node next to a
   contact): pull-off and adhesive forces are then set by the grid (lattice trapping);
+* ``cohesive_range``: with Dugdale adhesion, the gap changes between neighbouring cells at the
+  cohesive zone by more than the Dugdale range h0 (:func:`cohesive_gap_step`): the whole range
+  of the law is crossed within one cell, so the zone cannot be resolved whatever its apparent
+  width (steep asperity flanks of a rough surface, a coarse grid);
 * ``full_contact``: the contact covers more than :data:`FULL_CONTACT` of the domain;
 * ``large_contact``: a sphere whose contact radius exceeds :data:`MAX_A_OVER_R` of its radius
-  (the half-space, small-slope model no longer holds).
+  (the half-space, small-slope model no longer holds);
+* ``contact_cells``: the largest contact patch is fewer than :data:`MIN_CONTACT_CELLS` solver
+  cells across (its inscribed diameter, :func:`patch_width`): areas, pressures and forces are set
+  by a handful of cells;
+* ``topography_pixels``: a measured topography whose pixels are larger than the contact: the
+  largest contact patch spans fewer than :data:`MIN_CONTACT_CELLS` pixels of the scan, so the
+  contact rests on heights the instrument did not resolve (the solver grid interpolates them);
+* ``stick_zone``: tangential kinds: the stick zone of the partial-slip states is fewer than
+  :data:`MIN_STICK_CELLS` cells across at its widest, or the run ends in partial slip with such
+  a stick zone: stick ratios, the onset of gross slip and the pre-sliding displacement are then
+  set by the grid.
 
 :func:`result_warnings` returns one message per check that fires (the worst case over the
 states), for summary.json ``warnings``, the report's banner and the CLI.
+:func:`compare_expected` compares a run's summary with the ``expected`` value a scenario states.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 
-__all__ = ["result_warnings", "MIN_COHESIVE_CELLS", "FULL_CONTACT", "MAX_A_OVER_R"]
+__all__ = [
+    "result_warnings", "warning_names", "cohesive_cells", "cohesive_gap_step", "patch_width",
+    "stick_zone_width", "scan_pixel", "compare_expected", "CHECKS",
+    "MIN_COHESIVE_CELLS", "FULL_CONTACT", "MAX_A_OVER_R", "MIN_CONTACT_CELLS", "MIN_STICK_CELLS",
+    "MAX_GAP_STEP",
+]
+
+#: Names of the checks (the prefix of their warnings).
+CHECKS = ("edge", "cohesive_zone", "cohesive_range", "full_contact", "large_contact", "contact_cells",
+          "topography_pixels", "stick_zone")
 
 #: Fewest cells across the cohesive zone for resolved adhesive forces (Maugis-Dugdale pull-off
 #: is ~5 % high at ~4 cells, within 1 % at ~8).
 MIN_COHESIVE_CELLS = 3.0
+#: Largest gap change between neighbouring cells at the cohesive zone, in units of h0: beyond
+#: it the Dugdale range is crossed within one cell.
+MAX_GAP_STEP = 1.0
 #: Contact fraction above which the domain is too small for the contact.
 FULL_CONTACT = 0.9
 #: Largest contact radius over sphere radius for the half-space model.
 MAX_A_OVER_R = 0.1
+#: Fewest cells (solver cells or scan pixels) across the largest contact patch.
+MIN_CONTACT_CELLS = 3.0
+#: Fewest cells across the widest stick zone of a partial-slip run.
+MIN_STICK_CELLS = 3.0
 
 
 def _perimeter_cells(mask: np.ndarray) -> int:
@@ -65,7 +97,90 @@ def cohesive_cells(res) -> float:
     return width / dx
 
 
-def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radius: float | None = None) -> list[str]:
+def cohesive_gap_step(res) -> float:
+    """Largest gap change (m) between two neighbouring cells at the cohesive zone of a state.
+
+    The pairs counted are the 4-neighbour pairs with a cohesive-zone node (0 < g < h0) and the
+    pairs of a contact node and a node outside the zone (g >= h0): where the zone is resolved
+    the gap climbs from 0 to h0 over several cells and every such step is a fraction of h0;
+    where a contact node borders a node beyond the range, the gap jumps over the whole range in
+    one cell.  NaN when the state has neither.
+    """
+    g = np.asarray(res.gap, float)
+    con = np.asarray(res.contact, bool)
+    adh = np.asarray(res.adhesive, bool)
+    outside = ~(con | adh)
+    worst = -np.inf
+    for axis in (0, 1):
+        a = [slice(None)] * 2
+        b = [slice(None)] * 2
+        a[axis], b[axis] = slice(1, None), slice(None, -1)
+        a, b = tuple(a), tuple(b)
+        pair = adh[a] | adh[b] | (con[a] & outside[b]) | (outside[a] & con[b])
+        if pair.any():
+            worst = max(worst, float(np.abs(g[a] - g[b])[pair].max()))
+    return worst if math.isfinite(worst) else math.nan
+
+
+def patch_width(mask, dx: float, dy: float | None = None) -> float:
+    """Width (m) of the widest patch of ``mask``: the diameter of the largest disc inscribed in it.
+
+    From the Euclidean distance transform on the mask sampled twice finer (each cell split in
+    2 x 2): twice the largest distance of a sub-cell centre to the nearest sub-cell outside, so
+    that a k x k block of cells is exactly k cells wide, a disc of D cells about D, a ring of w
+    cells about w.  0 for an empty mask.
+    """
+    from scipy.ndimage import distance_transform_edt
+
+    m = np.asarray(mask, bool)
+    if not m.any():
+        return 0.0
+    dy = dx if dy is None else dy
+    rows, cols = np.flatnonzero(m.any(axis=1)), np.flatnonzero(m.any(axis=0))
+    box = m[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]  # the patches only: the rest is empty
+    fine = np.repeat(np.repeat(box, 2, axis=0), 2, axis=1)
+    # a ring of False around it, so that a patch at the grid edge is measured inside the grid
+    d = distance_transform_edt(np.pad(fine, 1), sampling=(dx / 2.0, dy / 2.0))
+    return float(2.0 * d.max())
+
+
+def stick_zone_width(tres) -> float:
+    """Width (m) across the widest stick patch of a tangential state (:func:`patch_width`)."""
+    g = tres.grid
+    return patch_width(np.asarray(tres.stick, bool) & np.asarray(tres.contact, bool), g.dx, g.dy)
+
+
+def scan_pixel(files: Mapping | None) -> tuple[float, str] | None:
+    """Largest pixel (m) of the measured topographies of a problem and the body it belongs to.
+
+    ``files`` is the ``problem.info["files"]`` table of :func:`tribobem.scenario.build_problem`
+    (``scan_grid`` and ``scan_size`` of each measured roughness).  None without measured files.
+    """
+    best = None
+    for key, f in (files or {}).items():
+        try:
+            (nx, ny), (lx, ly) = f["scan_grid"], f["scan_size"]
+            px = max(float(lx) / int(nx), float(ly) / int(ny))
+        except (KeyError, TypeError, ValueError, ZeroDivisionError):
+            continue
+        if best is None or px > best[0]:
+            best = (px, str(key))
+    return best
+
+
+def warning_names(warnings: Sequence[str]) -> list[str]:
+    """The check names (:data:`CHECKS`) of a list of warnings, in order, without repeats."""
+    out = []
+    for w in warnings or []:
+        name = str(w).split(":", 1)[0].strip()
+        if name in CHECKS and name not in out:
+            out.append(name)
+    return out
+
+
+def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radius: float | None = None,
+                    tangential: Sequence | None = None, files: Mapping | None = None,
+                    gross_slip: bool | None = None) -> list[str]:
     """Warnings for states the grid cannot back (see the module docstring).
 
     Parameters
@@ -75,21 +190,35 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
     periodic : bool
         The grid is periodic (no edge check).
     interaction : Interaction, optional
-        The stress law outside contact (Dugdale: cohesive-zone check).
+        The stress law outside contact (Dugdale: cohesive-zone checks).
     radius : float, optional
         Composite sphere radius (m), for the contact-size check.
+    tangential : sequence of TangentialResult, optional
+        The tangential states of a partial-slip or hysteresis run (in path order), for the
+        stick-zone check.
+    files : mapping, optional
+        ``problem.info["files"]``: the measured topographies (scan grid and size), for the
+        pixel check.
+    gross_slip : bool, optional
+        The run's own verdict (summary ``gross_slip``): False when it claims that the last
+        state is still in partial slip, which the stick-zone check then requires resolved.
     """
     out: list[str] = []
     res = [r for r in results if r is not None]
     if not res:
         return out
+    grid = res[0].grid
+    dx, dy = grid.dx, grid.dy
+    cell = max(dx, dy)
     if not periodic:
         touching = [r for r in res if _touches_edge(np.asarray(r.contact, bool) | np.asarray(r.adhesive, bool))]
         if touching:
             out.append(f"edge: the contact or the cohesive zone touches the edge of the free-boundary domain in "
                        f"{len(touching)} of {len(res)} saved state(s): the domain truncates it; enlarge grid.size")
-    if interaction is not None and getattr(interaction, "h0", None):
-        widths = [cohesive_cells(r) for r in res if np.asarray(r.contact, bool).any()]
+    in_contact = [r for r in res if np.asarray(r.contact, bool).any()]
+    h0 = getattr(interaction, "h0", None) if interaction is not None else None
+    if h0:
+        widths = [cohesive_cells(r) for r in in_contact]
         widths = [w for w in widths if math.isfinite(w)]
         if widths:
             w = min(widths)
@@ -98,6 +227,14 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
                 out.append(f"cohesive_zone: the cohesive zone is {what} (fewer than {MIN_COHESIVE_CELLS:g}): "
                            "adhesive and pull-off forces are set by the grid, not resolved; refine grid.n or "
                            "shrink the domain")
+        steps = [cohesive_gap_step(r) for r in in_contact]
+        steps = [s for s in steps if math.isfinite(s)]
+        if steps and max(steps) > MAX_GAP_STEP * h0:
+            s = max(steps)
+            out.append(f"cohesive_range: the gap changes by up to {s:.3g} m = {s / h0:.2g} h0 between neighbouring "
+                       f"cells at the cohesive zone (Dugdale range h0 = {h0:.3g} m): the range of the adhesive "
+                       f"law is crossed within one cell ({cell:.3g} m), so the cohesive zone cannot be resolved; "
+                       "refine grid.n or shrink the domain")
     frac = max(float(np.mean(np.asarray(r.contact, bool))) for r in res)
     if frac > FULL_CONTACT:
         out.append(f"full_contact: the contact covers {100 * frac:.0f} % of the domain: the domain is too small "
@@ -107,4 +244,87 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
         if a > MAX_A_OVER_R * radius:
             out.append(f"large_contact: contact radius {a:.3g} m is {a / radius:.2f} of the sphere radius "
                        f"{radius:.3g} m (> {MAX_A_OVER_R:g}): the half-space, small-slope model does not hold")
+    if in_contact:
+        # the smallest of the states' largest patches: the state least backed by the grid
+        width = min(patch_width(r.contact, dx, dy) for r in in_contact)
+        if width < MIN_CONTACT_CELLS * cell:
+            out.append(f"contact_cells: the largest contact patch is {width / cell:.1f} cell(s) across "
+                       f"({width:.3g} m; fewer than {MIN_CONTACT_CELLS:g} cells of {cell:.3g} m) in at least one "
+                       "saved state: its area, pressure and force are set by the grid; refine grid.n or shrink the "
+                       "domain")
+        px = scan_pixel(files)
+        if px is not None and width < MIN_CONTACT_CELLS * px[0]:
+            out.append(f"topography_pixels: the measured topography of {px[1]} has pixels of {px[0]:.3g} m, and the "
+                       f"largest contact patch is {width / px[0]:.1f} pixel(s) across ({width:.3g} m; fewer than "
+                       f"{MIN_CONTACT_CELLS:g}) in at least one saved state: the contact rests on heights the scan "
+                       "did not resolve; use a scan with finer pixels or a larger load")
+    tan = [t for t in (tangential or []) if hasattr(t, "stick") and hasattr(t, "contact")]
+    partial = [t for t in tan if np.asarray(t.stick, bool).any() and not bool(t.gross_slip)
+               and np.any(np.asarray(t.contact, bool) & ~np.asarray(t.stick, bool))]
+    if partial:
+        widest = max(stick_zone_width(t) for t in partial)
+        # A run that claims no gross slip ends in partial slip: its last stick zone must be
+        # resolved for that claim to hold.
+        claims_partial = gross_slip is False and any(tan[-1] is t for t in partial)
+        w_last = stick_zone_width(tan[-1]) if claims_partial else math.inf
+        if widest < MIN_STICK_CELLS * cell:
+            out.append(f"stick_zone: the stick zone of the partial-slip states is at most {widest / cell:.1f} cell(s) "
+                       f"across (fewer than {MIN_STICK_CELLS:g}): stick ratios, the gross-slip onset and the "
+                       "pre-sliding displacement are set by the grid; refine grid.n or shrink the domain")
+        elif w_last < MIN_STICK_CELLS * cell:
+            out.append(f"stick_zone: the run ends in partial slip with a stick zone {w_last / cell:.1f} cell(s) "
+                       f"across (fewer than {MIN_STICK_CELLS:g}): the grid cannot tell it from gross slip; refine "
+                       "grid.n or extend the ramp past the onset")
     return out
+
+
+# ----------------------------------------------------------------------------- expected values
+def _summary_value(summary: Mapping, key: str, step: int | None):
+    if step is None and key in summary and not isinstance(summary[key], (list, dict)):
+        return summary[key], "run"
+    steps = summary.get("steps") or []
+    i = -1 if step is None else int(step)
+    if not steps or not (-len(steps) <= i < len(steps)):
+        return None, f"step {i}"
+    return steps[i].get(key), f"step {steps[i].get('index', i)}"
+
+
+def compare_expected(summary: Mapping, expected: Mapping | None) -> dict | None:
+    """Computed against expected values (the scenario's ``expected`` metadata, in SI).
+
+    Parameters
+    ----------
+    summary : mapping
+        A run's summary (summary.json content): run-level keys and ``steps``.
+    expected : mapping or None
+        ``{"values": {key: value (SI)}, "tolerance": relative, "step": int or None,
+        "warnings": [check names], "reference": str}`` as the schema's
+        :class:`~tribobem.scenario.schema.ExpectedSpec` dumps it.  A key that is not a run-level
+        scalar of the summary is looked up in ``steps[step]`` (default: the last step).
+
+    Returns
+    -------
+    dict or None
+        ``{"reference", "tolerance", "values": [{"key", "where", "expected", "computed",
+        "relative_error", "within"}], "warnings": [{"name", "present"}], "met"}``; None without
+        ``expected``.  ``met`` is True when every value is within the tolerance and every
+        expected warning is present.
+    """
+    if not expected:
+        return None
+    tol = expected.get("tolerance")
+    rows = []
+    for key, ref in (expected.get("values") or {}).items():
+        got, where = _summary_value(summary, key, expected.get("step"))
+        if isinstance(got, (int, float)) and not isinstance(got, bool) and math.isfinite(got):
+            err = abs(got - ref) / abs(ref) if ref != 0 else abs(got)
+            within = tol is not None and err <= tol
+        else:
+            got, err, within = None, None, False
+        rows.append({"key": key, "where": where, "expected": ref, "computed": got, "relative_error": err,
+                     "within": bool(within)})
+    present = set(warning_names(summary.get("warnings") or []))
+    warns = [{"name": w, "present": w in present} for w in (expected.get("warnings") or [])]
+    met = all(r["within"] for r in rows) and all(w["present"] for w in warns)
+    return {"reference": expected.get("reference"), "tolerance": tol, "values": rows, "warnings": warns,
+            "met": bool(met)}

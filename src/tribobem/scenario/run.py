@@ -245,7 +245,8 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     # Numbers the grid cannot back (edge contact, unresolved cohesive zone, ...): on the states
     # the runner returned (before any fields selection).
     warns += result_warnings(out.get("results") or [], periodic=pb.grid.periodic, interaction=pb.interaction,
-                             radius=pb.info.get("radius"))
+                             radius=pb.info.get("radius"), tangential=out.get("tangential"),
+                             files=pb.info.get("files"), gross_slip=out["run"].get("gross_slip"))
     if not converged:
         bad = [i for i, r in enumerate(rows) if not r.get("converged")]
         where = ", ".join(str(i) for i in bad[:10]) + (", ..." if len(bad) > 10 else "")
@@ -271,6 +272,11 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         "warnings": warns,
         "created": _dt.datetime.now().isoformat(timespec="seconds"),
     }
+    if sc.expected is not None:
+        from ..output.checks import compare_expected
+
+        # The scenario's stated expectation beside the computed value (metadata: no effect on the run).
+        summary["expected"] = compare_expected(summary, sc.expected.model_dump())
 
     # fields
     keep = sc.output.fields

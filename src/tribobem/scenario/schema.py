@@ -2,7 +2,9 @@
 
 A scenario is a TOML file (or a dict) with the sections ``[grid]``, ``[body1]``, ``[body2]``,
 ``[load]``, ``[adhesion]``, ``[friction]``, ``[humidity]``, ``[solver]`` and ``[output]``
-and the top-level keys ``kind``, ``name`` and ``description``.
+and the top-level keys ``kind``, ``name``, ``description`` and ``expected`` (metadata: the
+value the run should give and its reference, :class:`ExpectedSpec`; the run ignores it but
+echoes it in summary.json beside the computed value).
 
 * Unknown keys are errors that name the key and list the allowed ones.
 * Values with a dimension may be numbers (SI) or strings with a unit (``"10 uN"``), parsed by
@@ -40,6 +42,8 @@ __all__ = [
     "HumiditySpec",
     "SolverSpec",
     "OutputSpec",
+    "ExpectedSpec",
+    "EXPECTED_KEYS",
 ]
 
 #: Run kinds the schema accepts (SPEC 9.1).
@@ -398,8 +402,41 @@ Shape = Annotated[
 
 
 # ----------------------------------------------------------------------------- bodies
+class FilmSpec(Section):
+    """``film`` of a body (capillary kinds): the adsorption isotherm of its water film.
+
+    ``isotherm``: ``"SiO2"`` | ``"Si"`` (the shipped approximate tables, SPEC 6) | ``"dry"`` |
+    ``{ rh = [...], thickness = [...] }`` (a measured table, monotone interpolation; thickness
+    in m or strings with a length unit) | ``{ fhh = { a = ..., monolayer = ..., exponent = ... } }``
+    (Frenkel-Halsey-Hill).  A body without ``film`` is dry.  Checked by
+    :func:`tribobem.interactions.isotherms.isotherm_from_spec` (a non-monotone or negative
+    table is an error naming the key).
+    """
+
+    isotherm: Union[str, dict[str, Any]] = "SiO2"
+
+    @model_validator(mode="after")
+    def _isotherm(self):
+        from ..interactions.isotherms import isotherm_from_spec
+
+        try:
+            isotherm_from_spec(self.isotherm, "isotherm")
+        except InputError as exc:
+            import re
+
+            # the innermost "isotherm...: " prefix names the key (a table wraps its item's error)
+            field, msg = "isotherm", str(exc)
+            while (m := re.match(r"(isotherm[\w.\[\]]*): (.*)", msg, re.S)):
+                field, msg = m.group(1), m.group(2)
+            _fail(field, msg)
+        return self
+
+
 class BodySpec(Section):
-    """``[body1]`` / ``[body2]``: ``E`` and ``nu`` (or ``rigid = true``), ``roughness``, ``shape``.
+    """``[body1]`` / ``[body2]``: ``E`` and ``nu`` (or ``rigid = true``), ``roughness``, ``shape``;
+    for the capillary kinds ``film`` (:class:`FilmSpec`; absent: a dry body) and ``hamaker``, the
+    body's own Hamaker constant in vacuum (J, > 0; default: 19e-20 J for a body whose film
+    isotherm is ``"Si"``, else SiO2's 6.5e-20 J; SPEC 6, approximate).
 
     The initial gap is ``(shape2 + roughness2) - (shape1 + roughness1)``, shifted so that its
     minimum is 0 (first touch at approach 0).
@@ -411,6 +448,8 @@ class BodySpec(Section):
     name: Optional[str] = None
     roughness: Roughness = Field(default_factory=NoRoughness)
     shape: Shape = Field(default_factory=FlatShape)
+    film: Optional[FilmSpec] = None
+    hamaker: Optional[Quantity("energy", gt=0)] = None
 
     @model_validator(mode="after")
     def _material(self):
@@ -431,7 +470,14 @@ class LoadSpec(Section):
     """``[load]``: one of ``force``, ``approach``, ``forces``, ``approaches`` (kind normal);
     ``preload``, ``control``, ``steps``, ``refine``, ``loading`` (kind pulloff); ``force`` (held
     during the tangential ramp) or ``forces`` (a normal-load path) for kind partial_slip;
-    ``force`` for kind hysteresis."""
+    ``force`` for kind hysteresis.
+
+    ``preload`` (kind pulloff, optional, N, > 0): the compressive force from which the
+    unloading starts.  Left out, the unloading starts from the adhesive equilibrium at zero
+    external load (the bodies brought into contact and let go: F = 0 on the contact branch).
+    Either way the start is reached by loading under displacement control from the first touch
+    (:func:`tribobem.solvers.paths.solve_at_force`); a periodic cell that reaches full contact
+    below the preload starts from its last state short of full contact (a warning says so)."""
 
     force: Optional[Quantity("force")] = None
     approach: Optional[Quantity("length")] = None
@@ -561,16 +607,59 @@ class FrictionSpec(Section):
 
 
 class HumiditySpec(Section):
-    """``[humidity]`` (used by capillary runs, not yet implemented)."""
+    """``[humidity]`` of the capillary kinds (SPEC 6 and 9.1; ``kind = "capillary"``, and
+    ``kind = "pulloff"`` for a humid pull-off).
+
+    ``rh``: relative humidities, fractions in (0, 1] (a list, or one value), run in the order
+    given.  ``temperature`` (K, default 295), ``surface_tension`` (N/m, default 0.0725),
+    ``molar_volume`` (m^3/mol, default 18.05e-6) of water.  ``levelling``: how each body's
+    adsorbed film is distributed over its undeformed topography (``equilibrium``, the default;
+    ``thin_film``, Paper B Eq. 8; ``uniform``, the isotherm thickness everywhere, Paper B
+    Fig. 18), ``film_system``: ``open`` (RH fixes the chemical potential; the default of the
+    equilibrium) or ``closed`` (the mean thickness fixed to the isotherm's; the only choice of
+    the volume-conserving thin-film mode, its default).  ``contact_angles``: theta1, theta2 in
+    degrees, in [0, 180] (Paper B Eq. 9; default 0, 0).  ``cutoff`` (m, > 0): the short-range
+    cut-off of the 1/g^3 van der Waals terms without a Dugdale zone (default: ``adhesion.z0``
+    when given, else 0.3 nm).  ``critical_distance`` (m, >= 0): a film-to-film air gap below it
+    seeds a meniscus (default 0.84 nm, three water-molecule diameters).  ``contribution``:
+    ``none`` or ``linear_30_60`` (Paper C: the capillary pressure times (RH - 0.3)/0.3 clipped to
+    [0, 1]).  ``water_hamaker`` (J, > 0): water's own Hamaker constant in vacuum (default
+    3.7e-20 J).  ``van_der_waals``: the water-solid terms on (default) or off.  Each body's film
+    (isotherm) and own Hamaker constant are keys of ``[body1]`` / ``[body2]`` (``film``,
+    ``hamaker``).
+    """
 
     rh: Optional[Annotated[list[Number(gt=0, le=1)], BeforeValidator(lambda v: v if isinstance(v, list) else [v])]] = None
     temperature: Quantity("temperature", gt=0) = 295.0
     surface_tension: Quantity("surface_tension", gt=0) = 0.0725
     molar_volume: Quantity("molar_volume", gt=0) = 18.05e-6
-    isotherm: Optional[str] = None
-    hamaker_solid_water_solid: Optional[Quantity("energy")] = None
-    hamaker_water_air_water: Optional[Quantity("energy")] = None
-    contribution_coefficient: StrictBool = False
+    levelling: Literal["equilibrium", "thin_film", "uniform"] = "equilibrium"
+    film_system: Optional[Literal["open", "closed"]] = None
+    contact_angles: Annotated[list[Angle()], Field(min_length=2, max_length=2)] = Field(default_factory=lambda: [0.0, 0.0])
+    cutoff: Optional[Quantity("length", gt=0)] = None
+    critical_distance: Quantity("length", ge=0) = 0.84e-9
+    contribution: Literal["none", "linear_30_60"] = "none"
+    water_hamaker: Quantity("energy", gt=0) = 3.7e-20
+    van_der_waals: StrictBool = True
+
+    @model_validator(mode="after")
+    def _humidity(self):
+        for i, a in enumerate(self.contact_angles):
+            if not 0.0 <= a <= 180.0:
+                _fail(f"contact_angles[{i}]", f"must be in [0, 180] degrees, got {a:g}")
+        if self.levelling == "thin_film" and self.film_system == "open":
+            _fail("film_system", "levelling = 'thin_film' conserves the film volume: it is a closed system "
+                                 "(give film_system = 'closed' or leave it out)")
+        if self.rh is not None and len(self.rh) == 0:
+            _fail("rh", "needs at least one relative humidity in (0, 1]")
+        return self
+
+    @property
+    def system(self) -> str:
+        """The film system in effect: the given one, else closed for thin_film, open otherwise."""
+        if self.film_system is not None:
+            return self.film_system
+        return "closed" if self.levelling == "thin_film" else "open"
 
 
 class SolverSpec(Section):
@@ -592,6 +681,92 @@ class OutputSpec(Section):
     report: StrictBool = True
 
 
+# ----------------------------------------------------------------------------- expected (metadata)
+#: Summary keys an ``expected`` table may state, with their dimension: run-level scalars
+#: (``pull_off_force``, ...) and step keys (read at ``expected.step``, default the last step).
+EXPECTED_KEYS: dict[str, str] = {
+    "pull_off_force": "force", "pull_off_approach": "length", "preload": "force",
+    "static_friction_force": "force", "static_friction_ratio": "dimensionless",
+    "presliding_displacement": "length", "max_tangential_force": "force", "zero_force_stick_ratio": "dimensionless",
+    "hysteresis_energy": "energy",
+    "normal_force": "force", "approach": "length", "contact_area": "area", "adhesive_area": "area",
+    "repulsive_force": "force", "adhesive_force": "force", "max_pressure": "pressure", "mean_gap": "length",
+    "tangential_force_x": "force", "tangential_force_y": "force", "displacement_x": "length",
+    "displacement_y": "length", "stick_area": "area", "slip_area": "area", "stick_ratio": "dimensionless",
+}
+#: Names of the result checks an ``expected.warnings`` list may name: those of
+#: :data:`tribobem.output.checks.CHECKS` (repeated here so that parsing a scenario does not import
+#: the output package; a test keeps the two equal).
+CHECK_NAMES = ("edge", "cohesive_zone", "cohesive_range", "full_contact", "large_contact", "contact_cells",
+               "topography_pixels", "stick_zone")
+
+
+class ExpectedSpec(Section):
+    """``expected``: what the scenario should give, and where that number comes from (metadata).
+
+    An inline table such as ``expected = { pull_off_force = "-0.250 uN", reference =
+    "Maugis-Dugdale (tribobem.analytic)", tolerance = "3 %" }``:
+
+    * one or more value keys from :data:`EXPECTED_KEYS`, each a quantity of its dimension (a
+      number in SI or a string with a unit); a step key is read at ``step`` (an index into
+      summary.json ``steps``, default the last);
+    * ``reference`` (required): what the value comes from (an analytic solution, a published
+      result, a finer grid);
+    * ``tolerance`` (required with a value): the relative deviation the reference admits, in
+      (0, 1) (e.g. ``"3 %"`` or ``0.03``);
+    * ``warnings``: result checks the run is expected to raise (an example that cannot be
+      resolved says so), names from :data:`CHECK_NAMES`.
+
+    The run itself ignores it; summary.json ``expected`` lists computed against expected values
+    (:func:`tribobem.output.checks.compare_expected`).
+    """
+
+    reference: str = Field(min_length=1)
+    tolerance: Optional[Number(gt=0, lt=1)] = None
+    step: Optional[Int()] = None
+    warnings: list[Literal[CHECK_NAMES]] = Field(default_factory=list)
+    values: dict[str, float] = Field(default_factory=dict)
+
+    @classmethod
+    def allowed_keys(cls) -> list[str]:
+        return [k for k in cls.model_fields if k != "values"] + list(EXPECTED_KEYS)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any):
+        # Replaces Section._known_keys: the value keys are gathered into ``values`` (SI).
+        if not isinstance(data, dict):
+            return data
+        allowed = cls.allowed_keys()
+        out, values = {}, {}
+        for key, raw in data.items():
+            if key not in allowed:
+                raise PydanticCustomError("unknown_key", "unknown key {key!r}; allowed keys: {allowed}",
+                                          {"key": str(key), "allowed": ", ".join(allowed)})
+            if key in EXPECTED_KEYS:
+                try:
+                    values[key] = convert(raw, EXPECTED_KEYS[key])
+                except UnitMismatch as exc:
+                    raise PydanticCustomError("scenario", "{message}", {"message": str(exc), "key": key}) from None
+                if not math.isfinite(values[key]):
+                    raise PydanticCustomError("scenario", "{message}",
+                                              {"message": f"must be finite, got {raw!r}", "key": key})
+            else:
+                out[key] = raw
+        out["values"] = values
+        return out
+
+    @model_validator(mode="after")
+    def _something(self):
+        if not self.values and not self.warnings:
+            _fail(None, "give at least one expected value (e.g. pull_off_force = \"-0.25 uN\") or the warnings "
+                        f"the run is expected to raise; value keys: {', '.join(EXPECTED_KEYS)}")
+        if self.values and self.tolerance is None:
+            _fail("tolerance", "required with an expected value: the relative deviation the reference admits, "
+                               "in (0, 1) (e.g. \"3 %\")")
+        return self
+
+
 # ----------------------------------------------------------------------------- scenario
 class Scenario(Section):
     """A complete, validated scenario (all quantities in SI)."""
@@ -608,11 +783,13 @@ class Scenario(Section):
     humidity: Optional[HumiditySpec] = None
     solver: SolverSpec = Field(default_factory=SolverSpec)
     output: OutputSpec = Field(default_factory=OutputSpec)
+    expected: Optional[ExpectedSpec] = None
 
     @model_validator(mode="after")
     def _consistent(self):
-        if self.body1.rigid and self.body2.rigid:
-            _fail("body2.rigid", "both bodies are rigid; give at least one a finite E")
+        if self.body1.rigid and self.body2.rigid and not (self.kind == "capillary" and self.load.approach is not None):
+            _fail("body2.rigid", "both bodies are rigid; give at least one a finite E (two rigid bodies: "
+                                 "kind = 'capillary' at a prescribed load.approach only)")
         load, adh = self.load, self.adhesion
         if self.kind == "normal":
             given = load.given
@@ -628,17 +805,39 @@ class Scenario(Section):
                     _fail("load.forces", "every force must be > 0 N without adhesion "
                           f"(got {min(load.forces):g} N; a tensile load needs [adhesion])")
         elif self.kind == "pulloff":
-            if not adh.enabled:
+            if self.humidity is not None:
+                self._humid()  # a humid pull-off: capillarity is adhesive, [adhesion] optional
+            elif not adh.enabled:
                 _fail("adhesion.model", "kind = 'pulloff' needs adhesion: model = 'dugdale' with "
-                      "work_of_adhesion and z0")
-            if load.preload is None:
-                _fail("load.preload", "required for kind = 'pulloff': the compressive force (> 0 N) "
-                      "from which the unloading starts")
+                      "work_of_adhesion and z0 (or a [humidity] section: a humid pull-off)")
+        elif self.kind == "capillary":
+            self._capillary()
         elif self.kind == "partial_slip":
             self._partial_slip()
         elif self.kind == "hysteresis":
             self._hysteresis()
         return self
+
+    # -- the capillary kinds (SPEC 9.1 extensions)
+    def _humid(self):
+        hum = self.humidity
+        if hum is None or not hum.rh:
+            _fail("humidity.rh", f"required for kind = {self.kind!r}: the relative humidities, fractions in "
+                                 "(0, 1], e.g. rh = [0.3, 0.5, 0.7, 0.9]")
+        if self.friction is not None and self.friction.coefficient is not None:
+            _fail("friction.coefficient", f"kind = {self.kind!r} is frictionless; leave [friction] out")
+
+    def _capillary(self):
+        self._humid()
+        load = self.load
+        given = load.given
+        if given not in (["force"], ["approach"]):
+            listed = [k for k in given if k in ("forces", "approaches")]
+            _fail(f"load.{listed[0]}" if listed else ("load.force" if not given else f"load.{given[1]}"),
+                  "kind = 'capillary' takes one load, held at every RH: force (N) or approach (m)"
+                  + (f" (got {', '.join(given)})" if given else ""))
+        if "preload" in load.model_fields_set:
+            _fail("load.preload", "used by kind = 'pulloff' only; a capillary run takes load.force or load.approach")
 
     # -- the tangential kinds (SPEC 9.1 extensions)
     def _friction_coefficient(self) -> FrictionSpec:
