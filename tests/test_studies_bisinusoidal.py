@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -69,14 +70,100 @@ def test_fit_recovers_known_constants_and_beta0_fit():
     assert fit0.predict(dg, R, E, k, beta0=True) == pytest.approx(fit0.a0 * R * dg * k**fit0.b0)
 
 
-def test_quick_example_sweep_runs(tmp_path):
-    from pathlib import Path
+ROOT = Path(__file__).resolve().parents[1]
+QUICK = ROOT / "examples" / "studies" / "bisinusoidal_quick.toml"
+PUBLISHED = [ROOT / "docs" / "data" / "bisinusoidal_pulloff.csv", ROOT / "docs" / "figures" / "bisinusoidal_pulloff.png"]
 
+
+@pytest.fixture(scope="module")
+def quick_sweep(tmp_path_factory):
+    """The 4-point quick sweep (32^2), run once: (folder, SweepResult)."""
     from tribobem.sweep import run_sweep
 
-    toml = Path(__file__).resolve().parents[1] / "examples" / "studies" / "bisinusoidal_quick.toml"
-    res = run_sweep(toml, tmp_path, scheduler="synchronous", progress=False)
+    out = tmp_path_factory.mktemp("bisinusoidal_quick")
+    return out, run_sweep(QUICK, out, scheduler="synchronous", progress=False)
+
+
+def test_quick_example_sweep_runs(quick_sweep):
+    _, res = quick_sweep
     assert res.complete and res.n_points == 4
     ds = res.dataset
     assert ds["pull_off_force"].dims == ("dgamma", "k") and (ds["pull_off_force"].values < 0).all()
     assert ds.coords["dgamma"].values.tolist() == pytest.approx([0.03, 0.07])
+
+
+def _fit_script():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("example_bisinusoidal_fit", ROOT / "examples" / "studies" /
+                                                  "bisinusoidal_fit.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _stamps():
+    return [p.stat().st_mtime_ns if p.exists() else None for p in PUBLISHED]
+
+
+def test_fit_script_on_the_quick_sweep_writes_to_out_only(quick_sweep, tmp_path, capsys):
+    """Item 4: the fit works on the 4-point sweep (R_c and E* fixed in its base), writes into
+    --out, and leaves docs/ alone; --publish of a partial sweep is refused."""
+    import json
+
+    import pandas as pd
+
+    folder, res = quick_sweep
+    before = _stamps()
+    mod = _fit_script()
+    out = tmp_path / "fit"
+    assert mod.main([str(folder), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "R_c = 0.0002" in text and "E_star = 1e+11" in text       # from sweep.json's base
+    table = pd.read_csv(out / "bisinusoidal_pulloff.csv")
+    assert len(table) == 4 and set(table["R_c"]) == {200e-6} and set(table["E_star"]) == {100e9}
+    F = res.dataset["pull_off_force"].values.ravel()
+    assert sorted(table["pull_off_force"]) == pytest.approx(sorted(F), rel=1e-9)
+    rec = json.loads((out / "bisinusoidal_fit.json").read_text())
+    ref = fit_pull_off(table)
+    assert rec["n_fitted"] == 4 and rec["beta_determined"]   # dgamma varies: E* R_c / dgamma takes 2 values
+    # the compact table keeps 10 significant digits
+    assert (rec["a0"], rec["b0"], rec["beta"]) == pytest.approx((ref.a0, ref.b0, ref.beta), rel=1e-6)
+    # F / (R_c dgamma) at 32^2 lies between two JKR and two DMT crests times the coarse-grid excess
+    assert 2 * 1.5 * math.pi < rec["a0"] < 3 * 2 * math.pi
+    assert (out / "bisinusoidal_pulloff.png").stat().st_size > 10_000
+    assert _stamps() == before
+    assert mod.main([str(folder), "--out", str(tmp_path / "pub"), "--publish"]) == 2
+    assert "not all 625 cases" in capsys.readouterr().err
+    assert (tmp_path / "pub" / "bisinusoidal_fit.json").is_file() and _stamps() == before
+
+
+def test_fit_script_on_a_partial_sweep_says_what_it_needs(quick_sweep, tmp_path, capsys):
+    import shutil
+
+    import pandas as pd
+
+    folder, _ = quick_sweep
+    part = tmp_path / "part"
+    shutil.copytree(folder, part)
+    csv_path = part / "results.csv"
+    rows = pd.read_csv(csv_path, dtype=str, keep_default_na=False)
+    rows.loc[3, "status"] = "missing"                        # 3 of 4 finished: still a fit
+    rows.to_csv(csv_path, index=False)
+    mod = _fit_script()
+    assert mod.main([str(part), "--out", str(tmp_path / "f3")]) == 0
+    assert "partial sweep: 3 of 4 points finished" in capsys.readouterr().out
+    rows.loc[2, "status"] = "failed"                          # 2 of 4: too few for 3 constants
+    rows.to_csv(csv_path, index=False)
+    assert mod.main([str(part), "--out", str(tmp_path / "f2")]) == 2
+    err = capsys.readouterr().err
+    assert "2 finished, converged point(s) of 4" in err and "at least 3" in err
+    assert not (tmp_path / "f2").exists()
+    rows.loc[2, "status"] = "ok"
+    rows.loc[[0, 2], "k"] = rows.loc[1, "k"]                  # 3 points with one k: no exponent b
+    rows.to_csv(csv_path, index=False)
+    assert mod.main([str(part), "--out", str(tmp_path / "fk")]) == 2
+    assert "two wavelength ratios" in capsys.readouterr().err
+    (part / "sweep.json").unlink()                             # R_c and E* nowhere
+    assert mod.main([str(part), "--out", str(tmp_path / "fb")]) == 2
+    assert "R_c, E_star" in capsys.readouterr().err

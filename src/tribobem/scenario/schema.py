@@ -693,6 +693,8 @@ EXPECTED_KEYS: dict[str, str] = {
     "repulsive_force": "force", "adhesive_force": "force", "max_pressure": "pressure", "mean_gap": "length",
     "tangential_force_x": "force", "tangential_force_y": "force", "displacement_x": "length",
     "displacement_y": "length", "stick_area": "area", "slip_area": "area", "stick_ratio": "dimensionless",
+    "capillary_force": "force", "solid_solid_force": "force", "water_solid_force": "force", "wetted_area": "area",
+    "peak_capillary_force": "force", "peak_capillary_rh": "dimensionless",
 }
 #: Names of the result checks an ``expected.warnings`` list may name: those of
 #: :data:`tribobem.output.checks.CHECKS` (repeated here so that parsing a scenario does not import
@@ -787,9 +789,8 @@ class Scenario(Section):
 
     @model_validator(mode="after")
     def _consistent(self):
-        if self.body1.rigid and self.body2.rigid and not (self.kind == "capillary" and self.load.approach is not None):
-            _fail("body2.rigid", "both bodies are rigid; give at least one a finite E (two rigid bodies: "
-                                 "kind = 'capillary' at a prescribed load.approach only)")
+        if self.body1.rigid and self.body2.rigid:
+            _fail("body2.rigid", "both bodies are rigid; give at least one a finite E")
         load, adh = self.load, self.adhesion
         if self.kind == "normal":
             given = load.given
