@@ -26,6 +26,13 @@ History
     First numbered version: Polonsky-Keer with Paper A's Dugdale extension (explicit
     masks, the corrected force balance), the TangCG-type tangential solver with the
     normal-tangential coupling loop, as of issue 9.
+2
+    Pull-off (``solvers.paths.pull_off``, run kind ``pulloff``): the unloading starts from the
+    preload reached by displacement-controlled loading from the first touch
+    (``solve_at_force``) instead of a force-controlled solve from zero pressure, and the curve
+    includes that start; a missing preload means zero external load.  Sphere pull-offs move
+    within the discrete-solution band (~1%); rough and periodic contacts may start on another
+    branch.
 """
 
 from __future__ import annotations
@@ -33,4 +40,4 @@ from __future__ import annotations
 __all__ = ["SOLVER_VERSION"]
 
 #: Version of the numerical results (see the module docstring for when to bump it).
-SOLVER_VERSION: int = 1
+SOLVER_VERSION: int = 2

@@ -1,8 +1,12 @@
 """Run kind ``pulloff``: optional loading branch, then the pull-off.
 
-The optional loading branch runs under displacement control from separation to the preload;
-then :func:`~tribobem.solvers.paths.pull_off` unloads from the preload and refines the most
-negative force (golden section); run-level ``pull_off_force``.
+The unloading starts from the state at ``load.preload`` (or, without a preload, from the
+adhesive equilibrium at zero external load), reached by loading under displacement control
+from the first touch (:func:`~tribobem.solvers.paths.solve_at_force`); then
+:func:`~tribobem.solvers.paths.pull_off` unloads and refines the most negative force.  The
+optional loading branch runs under displacement control from separation to the approach of
+that start.  Run-level ``pull_off_force``, ``preload`` (the force the unloading started from)
+and ``preload_source``.
 """
 
 from __future__ import annotations
@@ -17,34 +21,35 @@ from .common import curve_from_rows, offset_progress, solve_kw
 
 __all__ = ["run"]
 
+#: How summary.json names the start of the unloading without a preload.
+ZERO_LOAD = "zero external load (adhesive equilibrium at F = 0)"
+
 
 def run(pb, bar) -> dict:
     """Run a ``pulloff`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
-    Returns the runner dict (rows, results, labels, indices, curve, run).
+    Returns the runner dict (rows, results, labels, indices, curve, run, warnings).
     """
-    from ..solvers.normal import solve_normal
     from ..solvers.paths import approach_curve, pull_off
 
     sc, load = pb.scenario, pb.scenario.load
     kw = solve_kw(sc)
     inter = pb.interaction
     n_load = max(load.steps // 2, 4) if load.loading else 0
-    total = 1 + n_load + load.steps + load.refine + 1
+    total = load.steps + load.refine + 1 + n_load
     bar.phase("pull-off", total)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
-        start = solve_normal(pb.operator, pb.gap, force=load.preload, interaction=inter, **kw)
-        bar(1, total)
+        po = pull_off(pb.operator, pb.gap, inter, preload=load.preload, control=load.control, n_steps=load.steps,
+                      refine=load.refine, progress=offset_progress(bar, 0, total), **kw)
+        start = po.preload_state
         rows: list = []
         if load.loading and math.isfinite(start.approach):
             d0 = -2.0 * inter.h0
             approaches = np.linspace(d0, start.approach, n_load)
             loading = approach_curve(pb.operator, pb.gap, approaches, interaction=inter, unload=False,
-                                     progress=offset_progress(bar, 1, total), **kw)
+                                     progress=offset_progress(bar, total - n_load, total), **kw)
             rows += [dict(r) for r in loading.steps]
-        po = pull_off(pb.operator, pb.gap, inter, preload=load.preload, control=load.control, n_steps=load.steps,
-                      refine=load.refine, progress=offset_progress(bar, 1 + n_load, total), **kw)
         n_loading = len(rows)
         rows += [dict(r, branch="unloading") for r in po.curve.steps]  # force control labels them "loading"
         at = po.state  # the state at pull-off, on the branch the unloading followed
@@ -57,10 +62,11 @@ def run(pb, bar) -> dict:
             if jj["kind"] == "jump-off" and (jj["index"], "jump-off") not in seen:
                 curve.jumps.append(jj)
         curve.jumps.sort(key=lambda j: j["index"])
-    run = {"pull_off_force": po.force, "pull_off_approach": po.approach, "pull_off_control": load.control}
+    run = {"pull_off_force": po.force, "pull_off_approach": po.approach, "pull_off_control": load.control,
+           "preload": po.preload, "preload_source": "load.preload" if load.preload is not None else ZERO_LOAD}
     if load.loading:
         run["hysteresis_energy"] = curve.hysteresis_energy
-    # index of the preload state in the steps: the first unloading row is the preload
+    # index of the preload state in the steps: the first unloading row
     idx_pre = n_loading if len(rows) > n_loading else -1
     return {"rows": rows, "results": [start, at], "labels": ["preload", "pull-off"], "indices": [idx_pre, -1],
-            "curve": curve, "run": run}
+            "curve": curve, "run": run, "warnings": list(po.notes)}

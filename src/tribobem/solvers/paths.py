@@ -7,6 +7,13 @@ Displacement control traces the unstable force branch that force control cannot 
 the pull-off force (the most negative force on the curve, Papers A and C) is taken from it
 by default.  Under force control the unloading stops at the last force with an
 equilibrium: that force is the force-controlled pull-off (jump-off).
+
+A state at a given force can also be reached the way an experiment reaches it, by loading
+under displacement control from the first touch and interpolating the force-approach curve
+(:func:`solve_at_force`): the pull-off starts there.  This path needs no force-controlled
+solve from zero pressure, which on a periodic cell may settle in full contact (the mean
+pressure of the periodic kernel is then undetermined) and which stalls for stiff Dugdale laws
+on fine grids (Maugis lambda = 5 on 1248^2, see :func:`solve_at_force`).
 """
 
 from __future__ import annotations
@@ -297,12 +304,24 @@ class PullOff:
         The unloading curve it was taken from.
     state : NormalResult
         The solution at pull-off (pressure, gap, contact and cohesive zone).
+    preload_state : NormalResult
+        The state the unloading started from (its ``force`` is the preload actually applied).
+    notes : list of str
+        What the start had to give way to (e.g. a periodic cell in full contact below the
+        requested preload), for the run's warnings.
     """
 
     force: float
     approach: float
     curve: LoadCurve
     state: NormalResult | None = None
+    preload_state: NormalResult | None = None
+    notes: list = field(default_factory=list)
+
+    @property
+    def preload(self) -> float:
+        """The force (N) of the state the unloading started from."""
+        return float(self.preload_state.force) if self.preload_state is not None else math.nan
 
 
 def _solve_quiet(operator, gap, interaction, tol, max_iterations, initial, **load):
@@ -312,12 +331,189 @@ def _solve_quiet(operator, gap, interaction, tol, max_iterations, initial, **loa
                             max_iterations=max_iterations, initial_pressure=initial, **load)
 
 
+def _separated(res: NormalResult) -> bool:
+    return not np.any(res.contact) and not np.any(res.adhesive)
+
+
+def solve_at_force(
+    operator: ConvolutionOperator,
+    gap,
+    force: float,
+    *,
+    interaction=None,
+    rtol: float = 1e-3,
+    tol: float = 1e-10,
+    max_iterations: int = 10000,
+    max_solves: int = 60,
+    progress: Callable[[int, int], None] | None = None,
+) -> NormalResult:
+    """The state at a total force, reached by loading under displacement control.
+
+    The way an experiment reaches a load: the bodies touch (approach 0, the minimum of the
+    gap), then the approach is stepped, every solve warm-started from the previous one, until
+    the force brackets ``force``; the approach is then refined by regula falsi (Illinois) on the
+    force-approach curve, each solve warm-started from the nearer end of the bracket, until
+    the force is within ``rtol`` of the target.  Steps grow by secant extrapolation of the curve
+    (at most 4 times the previous step); towards a tensile target they are kept to a quarter of
+    the interaction range, so the state stays on the branch it started on.
+
+    Use it where a cold force-controlled solve fails:
+
+    * a periodic cell may settle in full contact from zero pressure, where the force is not
+      determined by the approach; here the loading stops at the last state short of full
+      contact (``info["full_contact"]`` is True when the target lies beyond it);
+    * for stiff Dugdale laws on fine grids the cold force-controlled Polonsky-Keer iteration
+      can stall (Maugis lambda = 5, 1248^2: 'no progress in 2000 iterations' at
+      F = pi R dgamma) while every displacement-controlled solve along the loading converges.
+
+    Parameters
+    ----------
+    operator, gap, interaction
+        As for :func:`~tribobem.solvers.normal.solve_normal`.
+    force : float
+        Target total force (N); may be tensile with adhesion.
+    rtol : float
+        Tolerance on the force, relative to max(|force|, |force at the first touch|) (the
+        latter for a target near zero).
+    tol, max_iterations
+        Settings of each solve.
+    max_solves : int
+        Upper bound on the solves.
+    progress : callable, optional
+        ``progress(solves, max_solves)`` after each solve.
+
+    Returns
+    -------
+    NormalResult
+        Displacement-controlled (``control == "displacement"``); ``info`` gains ``"target_force"``,
+        ``"force_scale"`` (what ``rtol`` is relative to), ``"solves"`` and ``"full_contact"``.
+
+    Raises
+    ------
+    InputError
+        If no state of the branch reaches the force (a tensile force beyond the pull-off, or
+        the bracket not found within ``max_solves``).
+    """
+    force = float(force)
+    if not math.isfinite(force):
+        raise InputError("force", f"must be a finite force (N), got {force!r}")
+    if not (0 < rtol < 1):
+        raise InputError("rtol", f"must be in (0, 1), got {rtol!r}")
+    rng = float(getattr(interaction, "range", 0.0) or 0.0)
+    h = np.asarray(gap, dtype=float)
+    # First step: a quarter of the interaction range, or a thousandth of the gap's relief.
+    first = rng / 4.0 if rng > 0 else 1e-3 * float(np.ptp(h))
+    if not first > 0:
+        first = 1e-12
+    # A periodic cell is in full contact at the approach of its mean gap (the periodic kernel
+    # keeps the mean displacement at zero): no state lies beyond it.
+    d_full = float(np.mean(h)) if operator.grid.periodic else math.inf
+    solves = 0
+    scale = abs(force)
+
+    def solve(d, warm):
+        nonlocal solves
+        res = _solve_quiet(operator, h, interaction, tol, max_iterations, warm, approach=float(d))
+        solves += 1
+        if progress:
+            progress(solves, max_solves)
+        return res
+
+    def done(res, full=False):
+        res.info = dict(res.info or {}, target_force=force, force_scale=scale, solves=solves, full_contact=bool(full))
+        return res
+
+    cur = solve(0.0, None)
+    if not cur.converged:
+        raise InputError("force", f"the first touch (approach 0) has no converged solution: {cur.message}")
+    scale = max(abs(force), abs(cur.force))
+    if abs(cur.force - force) <= rtol * scale:
+        return done(cur)
+    up = cur.force < force
+    prev, step = None, (first if up else -first)
+    while True:
+        if solves >= max_solves:
+            raise InputError("force", f"no bracket of {force:.4g} N within {max_solves} solves "
+                                      f"(last: {cur.force:.4g} N at approach {cur.approach:.4g} m)")
+        d = cur.approach + step
+        if prev is not None and cur.force != prev.force:
+            # secant extrapolation to the target, within [1, 4] times the last step
+            d_sec = cur.approach + (force - cur.force) * (cur.approach - prev.approach) / (cur.force - prev.force)
+            s = d_sec - cur.approach
+            if s * step > 0:
+                d = cur.approach + math.copysign(min(max(abs(s), abs(step)), 4 * abs(step)), step)
+        if not up and rng > 0 and cur.force < 0:
+            # towards a tensile target: small steps keep the state on its branch
+            d = max(d, cur.approach - rng / 4.0)
+        if up:
+            d = min(d, d_full)
+        nxt = solve(d, cur)
+        halvings = 0
+        while up and not nxt.converged and halvings < 6 and solves < max_solves:
+            # a step too long for the solver: shorten it
+            d = 0.5 * (cur.approach + d)
+            nxt = solve(d, cur)
+            halvings += 1
+        if not nxt.converged or (not up and _separated(nxt)):
+            raise InputError("force", f"no equilibrium at {force:.4g} N on this branch: the contact "
+                                      f"{'separates' if nxt.converged else 'has no converged state'} at approach "
+                                      f"{d:.4g} m (force {cur.force:.4g} N just before)")
+        if up and (np.all(nxt.contact) or d >= d_full):
+            # Full contact (periodic cell): the force no longer follows the approach.  Bisect
+            # towards the threshold so that the state returned is the last one short of it.
+            d_in = nxt.approach
+            for _ in range(6):
+                if solves >= max_solves:
+                    break
+                trial = solve(0.5 * (cur.approach + d_in), cur)
+                if not trial.converged or np.all(trial.contact):
+                    d_in = trial.approach
+                else:
+                    cur = trial
+                    if abs(trial.force - force) <= rtol * scale or trial.force > force:
+                        return done(trial)
+            return done(cur, full=True)
+        if abs(nxt.force - force) <= rtol * scale:
+            return done(nxt)
+        if (nxt.force > force) == up:  # bracketed between cur and nxt
+            break
+        prev, cur, step = cur, nxt, d - cur.approach
+    # Regula falsi (Illinois) on [lo, hi] with F(lo) < force < F(hi).
+    lo, hi = (cur, nxt) if up else (nxt, cur)
+    f_lo, f_hi = lo.force - force, hi.force - force
+    best = min((lo, hi), key=lambda r: abs(r.force - force))
+    side = 0
+    while solves < max_solves:
+        d = (lo.approach * f_hi - hi.approach * f_lo) / (f_hi - f_lo)
+        warm = lo if abs(d - lo.approach) < abs(d - hi.approach) else hi
+        res = solve(d, warm)
+        if not res.converged:
+            break
+        if abs(res.force - force) < abs(best.force - force):
+            best = res
+        if abs(res.force - force) <= rtol * scale:
+            return done(res)
+        if res.force < force:
+            lo, f_lo = res, res.force - force
+            if side == -1:
+                f_hi /= 2.0
+            side = -1
+        else:
+            hi, f_hi = res, res.force - force
+            if side == 1:
+                f_lo /= 2.0
+            side = 1
+    warnings.warn(f"solve_at_force: {force:.4g} N reached to {abs(best.force - force):.3g} N after {solves} solves "
+                  f"(tolerance {rtol * scale:.3g} N)", ConvergenceWarning, stacklevel=2)
+    return done(best)
+
+
 def pull_off(
     operator: ConvolutionOperator,
     gap,
     interaction,
     *,
-    preload: float,
+    preload: float | None = None,
     control: str = "displacement",
     n_steps: int = 40,
     refine: int = 8,
@@ -325,16 +521,24 @@ def pull_off(
     max_iterations: int = 10000,
     max_steps: int = 400,
     keep_fields: bool = False,
+    start: str = "approach",
     progress: Callable[[int, int], None] | None = None,
 ) -> PullOff:
-    """Pull-off force of an adhesive contact, by unloading from a compressive preload.
+    """Pull-off force of an adhesive contact, by unloading from a preload.
 
-    Displacement control (default): solve the preload under force control, then unload by
-    continuation: about ``n_steps / 2`` steps down to zero approach, then steps of h0 / 4
-    (a quarter of the interaction range) once the force is tensile, until the bodies have
-    separated; every solve is warm-started from the previous one, so the curve follows the
-    branch being unloaded.  The minimum is refined by ``2 refine - 1`` finer continuation
-    steps between its neighbours.
+    The start: the state at the preload, reached by loading under displacement control from
+    the first touch (:func:`solve_at_force`, ``start="approach"``, the default; the force within
+    0.1 %), or by a force-controlled solve from zero pressure (``start="force"``, the method
+    before solver version 2).  Without a preload the unloading starts from the adhesive
+    equilibrium at zero external load (F = 0 on the contact branch).  A periodic cell that
+    reaches full contact below the preload starts from its last state short of full contact (the
+    unloading of a fully bonded cell has no contact edge to follow); ``notes`` says so.
+
+    Displacement control (default): unload by continuation from the start: about
+    ``n_steps / 2`` steps down to zero approach, then steps of h0 / 4 (a quarter of the
+    interaction range) once the force is tensile, until the bodies have separated; every solve
+    is warm-started from the previous one, so the curve follows the branch being unloaded.  The
+    minimum is refined by ``2 refine - 1`` finer continuation steps between its neighbours.
 
     Force control: step the force down from the preload; at the first force without
     equilibrium, bisect (``refine`` times) between it and the last force with one.  The last
@@ -344,8 +548,8 @@ def pull_off(
     ----------
     operator, gap, interaction
         As for :func:`solve_normal` (``interaction`` is required).
-    preload : float
-        Compressive force (N, > 0) from which the unloading starts.
+    preload : float, optional
+        Compressive force (N, > 0) from which the unloading starts; None: zero external load.
     control : {"displacement", "force"}
     n_steps : int
         Unloading steps (force control), twice the number of coarse steps (displacement).
@@ -355,24 +559,42 @@ def pull_off(
         Upper bound on the unloading steps under displacement control.
     keep_fields : bool
         Keep every :class:`NormalResult` in ``curve.results``.
+    start : {"approach", "force"}
+        How the preload state is reached (see above).
     """
     if interaction is None:
         raise InputError("adhesion", "pull-off needs an adhesive interaction")
-    if not preload > 0:
-        raise InputError("load.preload", f"must be > 0 N, got {preload!r}")
+    if preload is not None and not preload > 0:
+        raise InputError("load.preload", f"must be > 0 N (or left out: zero external load), got {preload!r}")
     if control not in ("displacement", "force"):
         raise InputError("control", f"must be 'displacement' or 'force', got {control!r}")
-    start = _solve_quiet(operator, gap, interaction, tol, max_iterations, None, force=preload)
-    if not start.converged:
-        raise InputError("load.preload", f"the preload has no converged solution: {start.message}")
+    if start not in ("approach", "force"):
+        raise InputError("start", f"must be 'approach' or 'force', got {start!r}")
+    target = 0.0 if preload is None else float(preload)
+    notes: list[str] = []
+    if start == "force":
+        state0 = _solve_quiet(operator, gap, interaction, tol, max_iterations, None, force=target)
+        if not state0.converged:
+            raise InputError("load.preload", f"the preload has no converged solution: {state0.message}")
+    else:
+        try:
+            state0 = solve_at_force(operator, gap, target, interaction=interaction, tol=tol,
+                                    max_iterations=max_iterations)
+        except InputError as exc:
+            raise InputError("load.preload", f"the preload cannot be reached: {exc}") from None
+        if state0.info.get("full_contact"):
+            notes.append(f"preload: the periodic cell reaches full contact below the preload {target:.4g} N; the "
+                         f"unloading starts from the last state short of full contact ({state0.force:.4g} N at "
+                         f"approach {state0.approach:.4g} m)")
+    start = state0
     total = (n_steps if control == "force" else max_steps) + 2 * refine
     rows, store = [], []
 
     if control == "force":
         # Lower bound of any tensile force: sigma0 over the whole domain.
         f_min = interaction.floor * operator.grid.area
-        forces = np.linspace(preload, f_min, n_steps + 1)[1:]
-        prev, f_ok, f_fail = start, preload, None
+        forces = np.linspace(start.force, f_min, n_steps + 1)[1:]
+        prev, f_ok, f_fail = start, start.force, None
         _record(rows, start, "unloading", False, store)
         for k, f in enumerate(forces):
             res = _solve_quiet(operator, gap, interaction, tol, max_iterations, prev, force=float(f))
@@ -399,7 +621,7 @@ def pull_off(
         if f_fail is not None:
             curve.jumps.append({"index": len(rows) - 1, "branch": "unloading", "kind": "jump-off",
                                 "approach": prev.approach, "force": prev.force})
-        return PullOff(prev.force, prev.approach, curve, prev)
+        return PullOff(prev.force, prev.approach, curve, prev, start, notes)
 
     # Displacement control: a quasi-static continuation.  Coarse steps while the contact is
     # compressive, then steps of a quarter of the interaction range once the force turns
@@ -412,6 +634,7 @@ def pull_off(
     prev, d = start, d_hi
     best_state = None
     best = (np.inf, None, None)  # (force, row index, result just above that point)
+    _record(rows, start, "unloading", keep_fields, store)  # the curve starts at the preload
     k = 0
     while k < max_steps:
         step = fine if (prev.force < 0.0 or d - coarse < 0.0) else coarse
@@ -451,4 +674,4 @@ def pull_off(
         if keep_fields:
             store = [store[j] for j in order]
     curve = _assemble("displacement", rows, store)
-    return PullOff(result_force, result_approach, curve, state)
+    return PullOff(result_force, result_approach, curve, state, start, notes)
