@@ -40,10 +40,13 @@ ANDERSON = True
 INEXACT_NORMAL = 1e-6
 
 
-def _contraction(history) -> float | None:
+def _contraction(history, hint: float | None = None) -> float | None:
     """Contraction factor of the outer loop from its last two pressure changes (None while
-    unknown or not clearly contracting)."""
+    unknown or not clearly contracting).  Before two passes have been compared, ``hint`` (the
+    factor measured on the previous step, doubled for safety) stands in for it."""
     if len(history) < 3:  # the first change is measured against the last step, not a pass
+        if len(history) == 2 and hint is not None:
+            return 2.0 * hint if 2.0 * hint < 0.5 else None
         return None
     a, b = history[-2], history[-1]
     if not (math.isfinite(a) and math.isfinite(b)) or a <= 0:
@@ -142,11 +145,15 @@ def solve_coupled(
     normal_load = {"force": normal_force} if normal_force is not None else {"approach": approach}
 
     shear = None
+    stick = None
+    rho_hint = None
     uz = None
     p_init = None
     if initial is not None:
         p_init = initial.normal
         shear = initial.tangential.shear
+        stick = initial.tangential.stick
+        rho_hint = _contraction(list(initial.coupling_history))
         if extrapolate is not None:
             older, w = extrapolate
             w = float(w)
@@ -173,8 +180,8 @@ def solve_coupled(
             # tolerance follows the last pressure change (the final pass is always solved to
             # ``tangential_tol``: the loop only stops after a pass at full accuracy).
             # The pass that the error estimate below will likely accept is solved at full accuracy.
-            rho = _contraction(history)
-            likely_last = rho is not None and _remaining(rho * last_change, rho) < coupling_tol
+            rho = _contraction(history, rho_hint)
+            likely_last = rho is not None and _remaining(rho * last_change, rho) < 5.0 * coupling_tol
             t_tol = (tangential_tol if (not two_way or likely_last)
                      else max(tangential_tol, min(1e-4, 1e-2 * last_change)))
             n_tol = tol if (not two_way or likely_last or INEXACT_NORMAL is None) else \
@@ -190,14 +197,15 @@ def solve_coupled(
             tang = solve_tangential(operator, normal.pressure, normal.contact,
                                     friction_coefficient=friction_coefficient, force=tangential_force,
                                     displacement=tangential_displacement, reference=reference,
-                                    initial_shear=shear, tol=t_tol, max_iterations=max_iterations)
+                                    initial_shear=shear, initial_stick=stick, tol=t_tol,
+                                    max_iterations=max_iterations)
             if p_init is not None and isinstance(p_init, NormalResult):
                 p_prev = p_init.pressure
                 change = float(np.abs(normal.pressure - p_prev).sum()) / max(float(np.abs(normal.pressure).sum()), 1e-300)
             else:
                 change = float("inf") if two_way else 0.0
             history.append(change)
-            p_init, shear = normal, tang.shear
+            p_init, shear, stick = normal, tang.shear, tang.stick
             if not two_way:
                 converged = True
                 message = ("uncoupled (identical materials): one pass" if not top.coupled
@@ -207,7 +215,7 @@ def solve_coupled(
             # Stop on the a-posteriori estimate of the remaining pressure error of a linear
             # contraction, change x rho / (1 - rho) (rho measured from the last two changes),
             # or on the change itself.
-            rho = _contraction(history)
+            rho = _contraction(history, rho_hint)
             done = change < coupling_tol or (rho is not None and _remaining(change, rho) < coupling_tol)
             if done and k > 1 and t_tol <= tangential_tol and n_tol <= tol:
                 converged = True

@@ -28,9 +28,9 @@ from ..results import CoupledResult
 from .coupling import solve_coupled
 from .tangential import GrossSlipError
 
-#: Extrapolate the warm start of ramp steps from the last two (measured on the Paper D ramp at
-#: 64^2: 16 % MORE tangential iterations near the onset, so off; hysteresis loops use it).
-EXTRAPOLATE = False
+#: Extrapolate the warm start of ramp steps from the last two (Paper D ramp at 64^2: 28 % fewer
+#: tangential and 22 % fewer normal iterations per state, same onset).
+EXTRAPOLATE = True
 
 __all__ = ["SlipRamp", "tangential_ramp", "normal_path", "stick_radius_ratio", "direction_vector"]
 

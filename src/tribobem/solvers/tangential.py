@@ -199,6 +199,7 @@ def solve_tangential(
     displacement=None,
     reference=None,
     initial_shear=None,
+    initial_stick=None,
     pressure_displacement=None,
     tol: float = 1e-8,
     max_iterations: int = 5000,
@@ -228,6 +229,11 @@ def solve_tangential(
         Eq. 5): the slip is measured from it.  None: total mode (from the undeformed state).
     initial_shear : array_like, shape (2, nx, ny), optional
         Warm start (Pa), e.g. the shear of the previous step or coupling iteration.
+    initial_stick : array_like of bool, optional
+        The stick mask that goes with ``initial_shear``.  Its slip nodes start on the rim of
+        their (new) friction disc, in the direction of their warm-start traction: without it a
+        slip node whose bound mu p grew would start inside its disc, as a stick node, and the
+        first iterations would undo the warm start.
     pressure_displacement : array_like, shape (2, nx, ny), optional
         K_tz p if already known (saves a convolution).
     tol : float
@@ -329,6 +335,15 @@ def solve_tangential(
             raise InputError("initial_shear", f"shape {tuple(q0.shape)} must be (2, {grid.nx}, {grid.ny})")
         q[0] = q0[0].ravel()[idx]
         q[1] = q0[1].ravel()[idx]
+        if initial_stick is not None:
+            st0 = xp.asarray(initial_stick, dtype=bool)
+            if st0.shape != grid.shape:
+                raise InputError("initial_stick", f"shape {tuple(st0.shape)} must be ({grid.nx}, {grid.ny})")
+            slip0 = ~st0.ravel()[idx]
+            mag0 = xp.sqrt(q[0] ** 2 + q[1] ** 2)
+            on_rim = slip0 & (mag0 > 0)
+            f = xp.where(on_rim, bound / xp.where(mag0 > 0, mag0, 1.0), 1.0)
+            q *= f
         _project(xp, q, bound)
     elif force_control and capacity > 0:
         # Admissible start with the right force: q = (F / mu F0+) mu p, all nodes stick.
