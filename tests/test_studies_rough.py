@@ -27,6 +27,11 @@ PARK = _data_dir() / "example_ps.tiff"
 needs_data = pytest.mark.skipif(not PARK.is_file(), reason=f"measured topographies not found ({PARK.parent})")
 
 
+def _docs_stamps() -> dict:
+    """Modification times of the published files (docs/data, docs/figures)."""
+    return {p: p.stat().st_mtime_ns for p in (ROOT / "docs").rglob("*") if p.is_file()}
+
+
 def _load_example(name: str):
     spec = importlib.util.spec_from_file_location(f"example_{name}", EXAMPLES / f"{name}.py")
     mod = importlib.util.module_from_spec(spec)
@@ -41,7 +46,9 @@ def quick_rough(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("rough_ball")
     mod = _load_example("rough_ball_study")
+    before = _docs_stamps()
     assert mod.main(["--quick", "--out", str(out), "--quiet"]) == 0
+    assert _docs_stamps() == before  # the published docs/ files are not touched
     assert (out / "data" / "rough_ball_quick.csv").is_file()
     assert (out / "figures" / "rough_ball_pulloff_quick.png").stat().st_size > 10_000
     with xr.open_dataset(out / "data" / "rough_ball_quick.nc") as ds:
@@ -144,7 +151,9 @@ def test_afm_spots_on_park_scan():
 @needs_data
 def test_afm_example_quick(tmp_path):
     mod = _load_example("afm_pulloff")
+    before = _docs_stamps()
     assert mod.main(["--quick", "--out", str(tmp_path), "--quiet", "--data", str(PARK.parent)]) == 0
+    assert _docs_stamps() == before  # the published docs/ files are not touched
     import pandas as pd
 
     t = pd.read_csv(tmp_path / "data" / "afm_pulloff_quick.csv")

@@ -17,19 +17,23 @@ of each measured scan in ../shared/data/topographies:
   bilinear interpolation, so these spots measure the scan's long-wavelength shape, not its
   (unmeasured) nanometre roughness.
 
-    python examples/studies/afm_pulloff.py            # full (~2-4 min of one core)
-    python examples/studies/afm_pulloff.py --quick    # small windows, coarse grids (< 20 s)
+    python examples/studies/afm_pulloff.py             # full (~2-4 min of one core) -> results/afm_pulloff/
+    python examples/studies/afm_pulloff.py --publish   # ... and the published docs/ copies
+    python examples/studies/afm_pulloff.py --quick     # small windows, coarse grids (< 20 s)
 
 Writes ``<out>/data/afm_pulloff.csv`` (one row per spot), ``<out>/data/afm_pulloff_summary.csv``
 (mean, std and references per case) and ``<out>/figures/afm_pulloff.png`` (``<out>`` =
-``docs``; ``--quick`` adds ``_quick``).  The data folder is found from ``TRIBOBEM_DATA_DIR``
-or ``<repo>/../shared/data/topographies``.
+``--out``, default ``results/afm_pulloff``; ``--quick`` adds ``_quick``).  The repository's
+published files (``docs/data/afm_pulloff*.csv``, ``docs/figures/afm_pulloff.png``) are written
+only with ``--publish`` (not with ``--quick``).  The data folder is found from
+``TRIBOBEM_DATA_DIR`` or ``<repo>/../shared/data/topographies``.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import shutil
 import sys
 import time
 import warnings
@@ -103,11 +107,16 @@ def plot(results, path: Path) -> None:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="small windows on coarse grids")
-    ap.add_argument("--out", type=Path, default=ROOT / "docs")
+    ap.add_argument("--out", type=Path, default=ROOT / "results" / "afm_pulloff",
+                    help="output folder (default results/afm_pulloff)")
+    ap.add_argument("--publish", action="store_true",
+                    help="also copy the tables and the figure to docs/data/ and docs/figures/ (full study only)")
     ap.add_argument("--data", type=Path, default=None, help="folder of the measured files")
     ap.add_argument("--spots", type=int, default=5)
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args(argv)
+    if args.publish and args.quick:
+        ap.error("--publish writes the full study into docs/: not with --quick")
     folder = args.data or data_dir()
     if not folder.is_dir():
         print(f"data folder {folder} not found (set TRIBOBEM_DATA_DIR)", file=sys.stderr)
@@ -148,13 +157,27 @@ def main(argv=None) -> int:
              "scan_rms_plane_removed", "tabor", "maugis", "cpu_time"]
     pd.DataFrame(summary)[first].to_csv(data / f"afm_pulloff_summary{suffix}.csv", index=False)
     plot(results, args.out / "figures" / f"afm_pulloff{suffix}.png")
+    published = publish(args.out) if args.publish else []
     if not args.quiet:
         with pd.option_context("display.width", 220, "display.max_columns", 30, "display.precision", 4):
             print(table[["case", "spot", "x0", "y0", "rms", "rms_slope", "pull_off_force", "pull_off_over_dmt",
                          "contact_area", "edge_contact", "converged"]].to_string(index=False))
         print(f"wall {time.perf_counter() - t0:.1f} s, CPU {time.process_time() - c0:.1f} s; wrote "
-              f"{data / f'afm_pulloff{suffix}.csv'} and {args.out / 'figures' / f'afm_pulloff{suffix}.png'}")
+              f"{data / f'afm_pulloff{suffix}.csv'} and {args.out / 'figures' / f'afm_pulloff{suffix}.png'}"
+              + (f"; published {', '.join(map(str, published))}" if published else ""))
     return 0
+
+
+def publish(out: Path) -> list[Path]:
+    """Copy the full study's tables and figure from ``out`` into docs/ (the published files)."""
+    copies = [(out / "data" / "afm_pulloff.csv", ROOT / "docs" / "data" / "afm_pulloff.csv"),
+              (out / "data" / "afm_pulloff_summary.csv", ROOT / "docs" / "data" / "afm_pulloff_summary.csv"),
+              (out / "figures" / "afm_pulloff.png", ROOT / "docs" / "figures" / "afm_pulloff.png")]
+    for src, dest in copies:
+        if src.resolve() != dest.resolve():  # --out docs --publish: already there
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(src, dest)
+    return [dest for _, dest in copies]
 
 
 if __name__ == "__main__":

@@ -1,17 +1,21 @@
 """Smooth ball on a Gaussian rough flat: pull-off and adhesive force versus roughness rms
 (thesis Paper A section 7, Figs. 9 and 11; Paper D section 3.2).
 
-    python examples/studies/rough_ball_study.py            # full study (~10 min of one core)
-    python examples/studies/rough_ball_study.py --quick    # tiny grid, 3 rms values (< 20 s)
+    python examples/studies/rough_ball_study.py             # full study (~10 min of one core) -> results/rough_ball/
+    python examples/studies/rough_ball_study.py --publish   # ... and the published docs/ copies
+    python examples/studies/rough_ball_study.py --quick     # tiny grid, 3 rms values (< 20 s)
 
 Writes ``<out>/data/rough_ball.csv``, ``<out>/data/rough_ball.nc`` and
-``<out>/figures/rough_ball_pulloff.png`` (``<out>`` = the repository's ``docs`` folder unless
-``--out`` is given; ``--quick`` adds the suffix ``_quick`` to the file names).
+``<out>/figures/rough_ball_pulloff.png`` (``<out>`` = ``--out``, default ``results/rough_ball``;
+``--quick`` adds the suffix ``_quick`` to the file names).  The repository's published files
+(``docs/data/rough_ball<suffix>.csv``, ``docs/figures/rough_ball_pulloff<suffix>.png``) are
+written only with ``--publish`` (not with ``--quick``); the NetCDF file stays in ``<out>``.
 """
 
 from __future__ import annotations
 
 import argparse
+import shutil
 import sys
 import time
 from pathlib import Path
@@ -87,7 +91,10 @@ def plot(ds, path: Path) -> None:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="tiny grid (64^2 on 2.5 um), rms/z0 = 0, 2, 20")
-    ap.add_argument("--out", type=Path, default=ROOT / "docs", help="output folder (default: docs/)")
+    ap.add_argument("--out", type=Path, default=ROOT / "results" / "rough_ball",
+                    help="output folder (default results/rough_ball)")
+    ap.add_argument("--publish", action="store_true",
+                    help="also copy the table and the figure to docs/data/ and docs/figures/ (not with --quick)")
     ap.add_argument("--n", type=int, default=None, help="cells per side (default 256, quick 64)")
     ap.add_argument("--size", type=float, default=None, help="domain side in m (default 10e-6, quick 2.5e-6)")
     ap.add_argument("--surface-n", type=int, default=None, help="grid of the base surface (resolution checks)")
@@ -101,6 +108,8 @@ def main(argv=None) -> int:
     ap.add_argument("--quiet", action="store_true")
     ap.add_argument("--replot", type=Path, default=None, help="only redraw the figure from a saved .nc")
     args = ap.parse_args(argv)
+    if args.publish and args.quick:
+        ap.error("--publish writes the full study into docs/: not with --quick")
     if args.replot is not None:
         import xarray as xr
 
@@ -134,6 +143,7 @@ def main(argv=None) -> int:
     df.to_csv(data / f"rough_ball{suffix}.csv", index=False)
     ds.to_netcdf(data / f"rough_ball{suffix}.nc")
     plot(ds, figs / f"rough_ball_pulloff{suffix}.png")
+    published = publish(args.out, suffix) if args.publish else []
 
     if not args.quiet:
         cols = ["tabor", "rms_over_z0", "pull_off_force", "pull_off_over_piRdg", "adhesive_force_ratio",
@@ -155,8 +165,21 @@ def main(argv=None) -> int:
                       f"({row['peak_value']:.3e} N, smooth {row['smooth_value']:.3e} N); "
                       f"rise then fall: {row['rise_then_fall']}")
         print(f"wall {wall:.1f} s, CPU {cpu:.1f} s; wrote {data / f'rough_ball{suffix}.csv'} and "
-              f"{figs / f'rough_ball_pulloff{suffix}.png'}")
+              f"{figs / f'rough_ball_pulloff{suffix}.png'}"
+              + (f"; published {', '.join(map(str, published))}" if published else ""))
     return 0
+
+
+def publish(out: Path, suffix: str) -> list[Path]:
+    """Copy the study's table and figure from ``out`` into docs/ (the published files)."""
+    copies = [(out / "data" / f"rough_ball{suffix}.csv", ROOT / "docs" / "data" / f"rough_ball{suffix}.csv"),
+              (out / "figures" / f"rough_ball_pulloff{suffix}.png",
+               ROOT / "docs" / "figures" / f"rough_ball_pulloff{suffix}.png")]
+    for src, dest in copies:
+        if src.resolve() != dest.resolve():  # --out docs --publish: already there
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(src, dest)
+    return [dest for _, dest in copies]
 
 
 if __name__ == "__main__":
