@@ -32,8 +32,9 @@ __all__ = ["FIGURE_NAMES", "make_figures", "topography_figure", "pressure_figure
 #: one per shown step, named ``stickslip_step<k>`` (k: the step's index in summary.json), or,
 #: for a hysteresis run, one multi-panel ``stickslip_loop`` at Paper E's points (A, D, D' ...);
 #: ``dissipation`` for ``dissipation_cycle<k>`` (hysteresis: maps of the last cycle).
-FIGURE_NAMES = ("hysteresis_loop", "force_curve", "stick_ratio", "stick_normal", "stickslip", "lateral_stiffness",
-                "dissipation", "pressure", "contact", "profile", "pressure_pulloff", "contact_pulloff", "topography")
+FIGURE_NAMES = ("hysteresis_loop", "capillary_forces", "pulloff_rh", "force_curve", "stick_ratio", "stick_normal",
+                "stickslip", "lateral_stiffness", "dissipation", "meniscus", "films", "pressure", "contact", "profile",
+                "pressure_pulloff", "contact_pulloff", "topography")
 
 _DPI = 110
 _COLORS = {"loading": "#1f77b4", "unloading": "#d62728"}
@@ -1226,7 +1227,12 @@ def make_figures(ds, summary: dict, outdir) -> dict:
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     out = {}
-    fc = None if _constant_normal_force(summary) else force_curve_figure(summary, outdir / "force_curve.png")
+    from .capillary import capillary_figures, capillary_step, is_capillary
+
+    capillary = is_capillary(summary)  # RH steps: their own figures (output.capillary), no force curve
+    if capillary:
+        out.update(capillary_figures(ds, summary, outdir))
+    fc = None if _constant_normal_force(summary) or capillary else force_curve_figure(summary, outdir / "force_curve.png")
     if fc is not None:
         out["force_curve"] = fc
     for name, func in (("stick_normal", stick_normal_figure), ("stick_ratio", stick_ratio_figure)):
@@ -1256,6 +1262,8 @@ def make_figures(ds, summary: dict, outdir) -> dict:
             names.add(name)
             out[name] = stickslip_figure(ds, i, outdir / f"{name}.png", mu=mu, qmax=qmax or None)
     step = representative_step(ds) if ds is not None else None
+    if capillary and step is not None and capillary_step(ds, summary) is not None:
+        step = capillary_step(ds, summary)  # the maps at the peak capillary force
     if step is not None:
         labels = [str(v) for v in ds["label"].values]
         po = labels.index("pull-off") if "pull-off" in labels else None
@@ -1270,7 +1278,8 @@ def make_figures(ds, summary: dict, outdir) -> dict:
             out["contact_pulloff"] = contact_figure(ds, po, outdir / "contact_pulloff.png")
         else:
             out["pressure"] = pressure_figure(ds, step, outdir / "pressure.png")
-            out["contact"] = contact_figure(ds, step, outdir / "contact.png")
+            if not capillary:  # the meniscus maps show contact, Dugdale zone and menisci instead
+                out["contact"] = contact_figure(ds, step, outdir / "contact.png")
             out["profile"] = profile_figure(ds, step, outdir / "profile.png")
     if ds is not None:
         out["topography"] = topography_figure(ds, outdir / "topography.png")

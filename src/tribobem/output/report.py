@@ -42,6 +42,18 @@ _CAPTIONS = {
                           "simulated branch (Paper F Eq. 3; thin line: the fitted K_L along the branch), the exact "
                           "Mindlin-Deresiewicz slope of a branch from the same turning point, and the virgin-curve "
                           "slope of Paper F Eq. 6."),
+    "capillary_forces": ("Adhesive force components against RH (Paper B Fig. 13): capillary F_cap = dP_cap x the "
+                         "meniscus area outside contact, solid-solid F_ss (Dugdale zone), water-solid F_ws (van der "
+                         "Waals across water and across the air gap between the films) and their sum; crosses: RH "
+                         "steps that did not converge. Right: meniscus and contact areas (% of the nominal area) and "
+                         "the number of active meniscus islands."),
+    "pulloff_rh": ("Humid pull-off against RH (the most tensile force of a quasi-static unloading with the menisci "
+                   "recomputed at every step) and the capillary force at pull-off; right: the unloading curves."),
+    "meniscus": ("Meniscus islands at chosen RH (Paper B Fig. 12): contact, Dugdale zone, meniscus (islands of "
+                 "g < S = 2|r_k| + e1 + e2 that hold a seed: contact, wetted or a film-to-film gap below d_cr; they "
+                 "carry dP_cap), dry cross-cuts (below S without a seed: no pressure) and free nodes."),
+    "films": ("Adsorbed water film thickness of each body that carries one, levelled on its undeformed topography "
+              "before contact, at the RH of the meniscus maps."),
     "stickslip_loop": ("Stick/slip maps at Paper E's points (A: start; D, H, L ...: turning points; D', H' ...: "
                        "the step right after them): compressive contact that sticks (blue) or slips (red), no "
                        "contact (grey); arrows: tangential traction q on body 1, on a common scale."),
@@ -55,6 +67,8 @@ _RUN_SCALARS = (
     ("pull_off_force", "pull-off force", "force"),
     ("pull_off_approach", "approach at pull-off", "length"),
     ("hysteresis_energy", "energy lost over the load cycle", "energy"),
+    ("peak_capillary_force", "peak capillary force F_cap (most tensile)", "force"),
+    ("peak_capillary_rh", "RH at the peak capillary force", "dimensionless"),
 )
 _PROBLEM_SCALARS = (
     ("effective_modulus", "effective modulus E*", "pressure"),
@@ -79,6 +93,17 @@ _STEP_COLUMNS = (
     ("cycle", "cycle", None, True),
     ("normal_force", "F", "force", False),
     ("approach", "\u03b4", "length", False),
+    ("rh", "RH", "dimensionless", True),
+    ("pull_off_force", "F pull-off", "force", True),
+    ("capillary_force", "F_cap", "force", True),
+    ("solid_solid_force", "F_ss", "force", True),
+    ("water_solid_force", "F_ws", "force", True),
+    ("wetted_area", "A meniscus", "area", True),
+    ("island_count", "islands", None, True),
+    ("kelvin_radius", "r_k", "length", True),
+    ("film_thickness_1", "e1 (mean)", "length", True),
+    ("film_thickness_2", "e2 (mean)", "length", True),
+    ("outer_iterations", "outer it.", None, True),
     ("tangential_force_x", "F\u2093", "force", True),
     ("displacement_x", "\u03b4\u2093", "length", True),
     ("stick_ratio", "stick ratio", "dimensionless", True),
@@ -273,6 +298,43 @@ def _hysteresis_section(s: dict, fric: list, figures: dict) -> list:
     return parts
 
 
+_CAPILLARY_FIGURES = ("capillary_forces", "pulloff_rh", "meniscus", "films")
+
+
+def _capillary_section(s: dict, hum: dict, figures: dict) -> list:
+    """The "Capillary adhesion" section: water, films and meniscus settings, the humid pull-off per
+    RH, and the capillary figures (force components, pull-off, meniscus and film maps)."""
+    e = html.escape
+    parts = ["<h2>Capillary adhesion</h2>"]
+    rows = [
+        ("water", f"T = {hum.get('temperature', float('nan')):.4g} K, γ = "
+                  f"{format_quantity(hum.get('surface_tension'), 'surface_tension', 4)}, V = "
+                  f"{hum.get('molar_volume', float('nan')) * 1e6:.4g} cm³/mol"),
+        ("films (isotherms)", f"body 1: {hum.get('isotherm1')}, body 2: {hum.get('isotherm2')}; levelling "
+                              f"{hum.get('levelling')} ({hum.get('film_system')} system), on the undeformed topographies"),
+        ("Hamaker constants", f"body 1 {hum.get('hamaker1', float('nan')):.3g} J, body 2 {hum.get('hamaker2', float('nan')):.3g} J, "
+                              f"water {hum.get('water_hamaker', float('nan')):.3g} J; van der Waals "
+                              f"{'on' if hum.get('van_der_waals') else 'off'}, cut-off "
+                              f"{format_quantity(hum.get('cutoff'), 'length', 3)}"),
+        ("meniscus", f"contact angles {', '.join(f'{a:g}' for a in hum.get('contact_angles_deg') or [])} deg, "
+                     f"critical distance d_cr = {format_quantity(hum.get('critical_distance'), 'length', 3)}, "
+                     f"contribution coefficient: {hum.get('contribution')}"),
+    ]
+    if isinstance(s.get("pull_off_force"), list):
+        steps = s.get("steps") or []
+        rows.append(("pull-off force per RH", "; ".join(
+            f"RH {100 * float(st.get('rh')):.3g} %: {_fmt(st.get('pull_off_force'), 'force')}"
+            for st in steps if st.get("rh") is not None)))
+        rows.append(("unloading starts from", f"{_fmt(s.get('preload'), 'force')} ({s.get('preload_source', '')})"))
+    parts.append("<table>")
+    parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in rows]
+    parts.append("</table>")
+    for name in _CAPILLARY_FIGURES:
+        if name in figures:
+            parts.append(_figure_html(name, figures[name], "wide" if name in ("meniscus", "films") else "mid"))
+    return parts
+
+
 def render_report(summary: dict, figures: dict | None = None) -> str:
     """The HTML text of the report.
 
@@ -313,7 +375,7 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
     # key scalars
     rows = []
     for key, label, dim in _RUN_SCALARS:
-        if s.get(key) is not None:
+        if s.get(key) is not None and not isinstance(s[key], list):  # a humid pull-off's list: its own section
             rows.append((label, _fmt(s[key], dim)))
     prob = s.get("problem", {}) or {}
     for key, label, dim in _PROBLEM_SCALARS:
@@ -348,6 +410,11 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
         parts.append("<h2>Friction</h2><table>")
         parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in fric]
         parts.append("</table>")
+
+    hum = prob.get("humidity")
+    if hum:
+        parts += _capillary_section(s, hum, figures)
+        figures = {k: v for k, v in figures.items() if k not in _CAPILLARY_FIGURES}
 
     if figures:
         parts.append("<h2>Figures</h2>")

@@ -28,7 +28,7 @@ from ..grid import Grid
 from ..materials import ContactPair, Material
 from .schema import BodySpec, Scenario
 
-__all__ = ["Problem", "build_problem", "body_material", "resolve_path"]
+__all__ = ["Problem", "HumiditySetup", "build_problem", "body_material", "resolve_path", "humidity_setup"]
 
 
 @dataclass
@@ -49,6 +49,9 @@ class Problem:
     shape1, shape2 : ndarray
         The bodies' shapes (m, convex toward the other body).
     interaction : DugdaleAdhesion or None
+    humidity : HumiditySetup or None
+        The water, isotherms, Hamaker constants and meniscus options of a capillary run (or a
+        humid pull-off); None without ``[humidity]``.
     info : dict
         Derived scalars (E*, sigma0, h0, Tabor/Maugis parameters, roughness statistics,
         resolved file paths) for the summary.
@@ -67,6 +70,7 @@ class Problem:
     shape1: np.ndarray
     shape2: np.ndarray
     interaction: object = None
+    humidity: object = None
     info: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
     base_dir: Path = Path(".")
@@ -104,6 +108,133 @@ class Problem:
     def gap_offset(self) -> float:
         """The constant subtracted from shape1 + shape2 - rough1 - rough2 to make min(gap) = 0."""
         return float(np.min(self.shape1 + self.shape2 - self.roughness1 - self.roughness2))
+
+
+@dataclass
+class HumiditySetup:
+    """What a capillary run needs beyond the elastic problem (SPEC 6, 9.1), in SI.
+
+    Attributes
+    ----------
+    rh : list of float
+        Relative humidities (fractions in (0, 1]), in the scenario's order.
+    water : Water
+        Temperature, surface tension and molar volume.
+    isotherm1, isotherm2 : Isotherm
+        Each body's adsorption isotherm (:class:`~tribobem.interactions.isotherms.DryIsotherm`
+        for a body without ``film``).
+    surface1, surface2 : ndarray
+        Each body's undeformed topography as seen from the body (m, positive outward): its
+        roughness minus its shape (a shape is convex toward the other body, so it recedes from
+        its own body's outward normal).  The films are levelled on these, before contact.
+    hamaker1, hamaker2 : float
+        The bodies' own Hamaker constants in vacuum (J).
+    water_hamaker : float
+        Water's own Hamaker constant in vacuum (J).
+    levelling : str
+        ``"equilibrium"``, ``"thin_film"`` or ``"uniform"``.
+    system : str
+        ``"open"`` or ``"closed"``.
+    contact_angles : tuple of float
+        theta1, theta2 in radians.
+    critical_distance : float
+        d_cr (m).
+    cutoff : float
+        Short-range cut-off of the 1/g^3 terms (m): ``humidity.cutoff``, else ``adhesion.z0``,
+        else 0.3 nm.
+    contribution : str
+        ``"none"`` or ``"linear_30_60"`` (Paper C).
+    van_der_waals : bool
+        Water-solid terms on or off.
+    """
+
+    rh: list
+    water: object
+    isotherm1: object
+    isotherm2: object
+    surface1: np.ndarray
+    surface2: np.ndarray
+    hamaker1: float
+    hamaker2: float
+    water_hamaker: float
+    levelling: str
+    system: str
+    contact_angles: tuple
+    critical_distance: float
+    cutoff: float
+    contribution: str
+    van_der_waals: bool
+
+    def info(self) -> dict:
+        """Scalars for summary.json ``problem.humidity``."""
+        return {
+            "temperature": self.water.temperature, "surface_tension": self.water.surface_tension,
+            "molar_volume": self.water.molar_volume, "isotherm1": self.isotherm1.name,
+            "isotherm2": self.isotherm2.name, "hamaker1": self.hamaker1, "hamaker2": self.hamaker2,
+            "water_hamaker": self.water_hamaker, "levelling": self.levelling, "film_system": self.system,
+            "contact_angles_deg": [math.degrees(a) for a in self.contact_angles],
+            "critical_distance": self.critical_distance, "cutoff": self.cutoff,
+            "contribution": self.contribution, "van_der_waals": self.van_der_waals,
+        }
+
+
+def humidity_setup(sc: Scenario, shape1, shape2, rough1, rough2) -> HumiditySetup | None:
+    """The :class:`HumiditySetup` of a scenario with ``[humidity]`` (None without).
+
+    Raises
+    ------
+    InputError
+        RH = 1 with a film that has no finite thickness there (an open-system equilibrium film
+        at RH = 1, or an isotherm that diverges at saturation: bulk water, outside the model),
+        checked here before any solve.
+    """
+    from ..interactions.isotherms import isotherm_from_spec
+    from ..interactions.van_der_waals import DEFAULT_CUTOFF, HAMAKER_SI, HAMAKER_SIO2
+    from ..interactions.water import Water
+
+    hum = sc.humidity
+    if hum is None:
+        return None
+    water = Water(hum.temperature, hum.surface_tension, hum.molar_volume)
+    isos, hams = [], []
+    for name in ("body1", "body2"):
+        body = getattr(sc, name)
+        spec = body.film.isotherm if body.film is not None else None
+        iso = isotherm_from_spec(spec, f"{name}.film.isotherm")
+        isos.append(iso)
+        if body.hamaker is not None:
+            hams.append(float(body.hamaker))
+        else:  # SPEC 6 defaults (approximate): silicon's for an "Si" film, else silica's
+            named_si = isinstance(spec, str) and spec.strip().lower() == "si"
+            hams.append(HAMAKER_SI if named_si else HAMAKER_SIO2)
+    for rh in hum.rh or []:
+        if rh < 1.0:
+            continue
+        for name, iso in zip(("body1", "body2"), isos):
+            if iso.dry:
+                continue
+            if hum.levelling == "equilibrium" and hum.system == "open":
+                raise InputError("humidity.rh", f"RH = 1 with an open-system equilibrium film on {name}: the Kelvin "
+                                 "pressure is 0 and a flat film is bulk water (no finite film, an infinite Kelvin "
+                                 "radius); use RH < 1 (e.g. 0.99), or film_system = 'closed' with an isotherm that "
+                                 "is finite at RH = 1")
+            if not math.isfinite(float(iso.thickness(1.0))):
+                raise InputError("humidity.rh", f"RH = 1: the {iso.name} isotherm of {name} diverges at saturation "
+                                 "(bulk water, outside the model); use RH < 1 (e.g. 0.99) or a table that ends "
+                                 "with a finite thickness at RH = 1")
+    if hum.cutoff is not None:
+        cutoff = float(hum.cutoff)
+    elif sc.adhesion.z0 is not None:
+        cutoff = float(sc.adhesion.z0)
+    else:
+        cutoff = DEFAULT_CUTOFF
+    return HumiditySetup(
+        rh=list(hum.rh or []), water=water, isotherm1=isos[0], isotherm2=isos[1],
+        surface1=np.asarray(rough1 - shape1, dtype=float), surface2=np.asarray(rough2 - shape2, dtype=float),
+        hamaker1=hams[0], hamaker2=hams[1], water_hamaker=float(hum.water_hamaker), levelling=hum.levelling,
+        system=hum.system, contact_angles=tuple(math.radians(a) for a in hum.contact_angles),
+        critical_distance=float(hum.critical_distance), cutoff=cutoff, contribution=hum.contribution,
+        van_der_waals=bool(hum.van_der_waals))
 
 
 def resolve_path(path: str, base_dir: Path) -> Path:
@@ -365,6 +496,7 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     interaction = None
     if sc.adhesion.enabled:
         interaction = DugdaleAdhesion(sc.adhesion.work_of_adhesion, sc.adhesion.z0)
+    humidity = humidity_setup(sc, shape1, shape2, rough1, rough2) if sc.kind in ("capillary", "pulloff") else None
 
     E_star = pair.effective_modulus
     info.update({
@@ -391,4 +523,6 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
             except Exception as exc:  # statistics are informative only
                 s = {"error": str(exc)}
             info.setdefault("roughness", {})[name] = {k: float(v) for k, v in s.items() if isinstance(v, (int, float))}
-    return Problem(sc, grid, pair, op, gap, rough1, rough2, shape1, shape2, interaction, info, warns, base)
+    if humidity is not None:
+        info["humidity"] = humidity.info()
+    return Problem(sc, grid, pair, op, gap, rough1, rough2, shape1, shape2, interaction, humidity, info, warns, base)

@@ -285,17 +285,21 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     if tangential and len(tangential) != len(results):
         raise RuntimeError(f"the {sc.kind!r} runner returned {len(tangential)} tangential results for "
                            f"{len(results)} results (they must be aligned one-to-one)")
+    sel = list(range(len(results)))  # the runner's results kept in fields.nc
     if keep == "last" and len(results) > 1:
-        # The state a user looks for: the pull-off, the gross-slip onset, else the largest load.
+        # The state a user looks for: the runner's representative one (e.g. the RH of the peak
+        # capillary force), the pull-off, the gross-slip onset, else the largest load.
         named = [name for name in ("pull-off", "onset") if name in labels]
-        if named:
+        if out.get("representative") is not None:
+            sel = [int(out["representative"])]
+        elif named:
             sel = [labels.index(named[0])]
         else:
             sel = [int(np.nanargmax([r.force for r in results]))]
         results, labels, indices = [results[i] for i in sel], [labels[i] for i in sel], [indices[i] for i in sel]
         tangential = [tangential[i] for i in sel] if tangential else []
     elif keep == "none":
-        results, labels, indices, tangential = [], [], [], []
+        results, labels, indices, tangential, sel = [], [], [], [], []
     from ..output.fields import build_fields
 
     attrs = {"title": sc.name or f"tribobem {sc.kind} run", "kind": sc.kind,
@@ -309,6 +313,14 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     for name, (maps, attrs_v) in (out.get("cycle_fields") or {}).items():
         # Per-cycle maps of a run (e.g. frictional dissipation, accumulated slip): dims (cycle, x, y).
         ds[name] = (("cycle", "x", "y"), np.stack([np.asarray(m, dtype=float) for m in maps]), attrs_v)
+    for name, (maps, attrs_v) in (out.get("step_fields") or {}).items():
+        # Per-step maps of a run (e.g. the films and meniscus islands of each RH of a capillary
+        # run), aligned with its results: dims (step, x, y), selected with them.
+        if sel:
+            ds[name] = (("step", "x", "y"), np.stack([np.asarray(maps[i]) for i in sel]), attrs_v)
+    for name, (values, attrs_v) in (out.get("step_coords") or {}).items():
+        # Per-step scalars of a run as coordinates (e.g. the RH of each capillary step).
+        ds = ds.assign_coords({name: ("step", np.asarray([values[i] for i in sel], dtype=float), attrs_v)})
     if "cycle" in ds.dims:
         ds = ds.assign_coords(cycle=np.arange(1, ds.sizes["cycle"] + 1, dtype=np.int32))
 

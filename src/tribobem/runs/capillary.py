@@ -1,0 +1,192 @@
+"""Run kind ``capillary``: one load held while the relative humidity steps (Papers B and C).
+
+For every RH of ``[humidity] rh`` (in the order given):
+
+1. each body's adsorbed water film is levelled on its *undeformed* topography (thesis;
+   :func:`~tribobem.interactions.films.film_thickness`, mode ``humidity.levelling``);
+2. the contact is solved self-consistently with the meniscus islands
+   (:func:`~tribobem.solvers.capillary.solve_capillary`: Paper B Fig. 6, an outer fixed point
+   on the active islands around the normal solver), at the scenario's ``load.force`` or
+   ``load.approach``, warm-started from the previous RH.
+
+Each RH is one summary.json step with the SPEC 9.1 keys ``rh``, ``capillary_force``,
+``solid_solid_force``, ``water_solid_force``, ``normal_force`` (the total), ``repulsive_force``,
+``contact_area``, ``wetted_area`` (meniscus area outside contact), ``island_count`` (active
+islands), ``kelvin_radius``, ``film_thickness_1`` / ``_2`` (mean films), ``outer_iterations``
+and ``converged`` (the contact, its island fixed point and both films), plus the normal
+solver's scalars, ``capillary_pressure`` (the applied one, Pa, with Paper C's contribution
+coefficient), ``contribution_coefficient``, ``adhesive_force_total`` (F_cap + F_ss + F_ws) and
+the films' iterations.  Run level: ``peak_capillary_force`` (the most tensile F_cap) and
+``peak_capillary_rh``.  fields.nc gets, per RH, the film thicknesses, the meniscus mask and the
+island labels (runner key ``step_fields``).
+
+Flagged, not silent: a film whose mean thickness (both films together) reaches the relief of
+the gap (its peak-to-valley) buries the roughness, and the island rule then wets the whole
+non-contact area; the step carries ``films_exceed_relief = true`` and a warning says so.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from ..errors import ConvergenceWarning
+from .common import solve_kw
+
+__all__ = ["run", "films_at", "capillary_options", "capillary_row", "step_maps", "STEP_FIELDS"]
+
+#: fields.nc variables a capillary step adds: name -> (dtype, attributes).
+STEP_FIELDS = {
+    "film_thickness_1": (float, {"units": "m", "long_name": "adsorbed water film on body 1 (levelled, before contact)"}),
+    "film_thickness_2": (float, {"units": "m", "long_name": "adsorbed water film on body 2 (levelled, before contact)"}),
+    "meniscus": (np.int8, {"units": "1", "flag_values": "0 1",
+                           "long_name": "meniscus mask: nodes of active islands outside contact (carry dP_cap)"}),
+    "island_labels": (np.int32, {"units": "1", "long_name": "meniscus island label (0: above the cut height; "
+                                                             "active and dry cross-cut islands)"}),
+    "island_active": (np.int8, {"units": "1", "flag_values": "0 1",
+                                "long_name": "1 on nodes of islands that hold a seed (contact, wetted or d_cr)"}),
+}
+
+
+def films_at(pb, rh: float, tol: float = 1e-10):
+    """Both bodies' levelled films at ``rh`` (:class:`~tribobem.interactions.films.FilmResult`).
+
+    Computed on each body's undeformed topography (``pb.humidity.surface1/2``) before contact,
+    as in the thesis; a dry body gets a zero film.
+    """
+    from ..interactions.films import film_thickness
+
+    hs = pb.humidity
+    out = []
+    for surface, iso in ((hs.surface1, hs.isotherm1), (hs.surface2, hs.isotherm2)):
+        out.append(film_thickness(surface, pb.grid, iso, rh, hs.water, mode=hs.levelling,
+                                  system=None if hs.levelling == "uniform" else hs.system,
+                                  tol=max(tol, 1e-12)))
+    return out[0], out[1]
+
+
+def capillary_options(pb, rh: float) -> dict:
+    """The keyword arguments of :func:`~tribobem.solvers.capillary.solve_capillary` at ``rh``
+    (all but the load, the films and the warm start)."""
+    from ..interactions.menisci import contribution_coefficient
+
+    hs = pb.humidity
+    water = hs.water
+    return {
+        "kelvin_radius": water.kelvin_radius(rh),
+        "capillary_pressure": water.capillary_pressure(rh),
+        "contribution": contribution_coefficient(rh, hs.contribution),
+        "adhesion": pb.interaction,
+        "hamaker": (hs.hamaker1, hs.hamaker2),
+        "water_hamaker": hs.water_hamaker,
+        "van_der_waals": hs.van_der_waals,
+        "contact_angles": hs.contact_angles,
+        "critical_distance": hs.critical_distance,
+        "cutoff": hs.cutoff,
+        "periodic": pb.grid.periodic,
+    }
+
+
+def capillary_row(state, rh: float, f1, f2, opts: dict, relief: float) -> dict:
+    """A summary.json step of one RH (module docstring) from a solved capillary state."""
+    row = state.normal.scalars()
+    c = float(opts["contribution"])
+    adh_total = state.capillary_force + state.solid_solid_force + state.water_solid_force
+    films = f1.mean_thickness + f2.mean_thickness
+    row.update({
+        "rh": float(rh),
+        "normal_force": float(state.total_force),
+        "capillary_force": float(state.capillary_force),
+        "solid_solid_force": float(state.solid_solid_force),
+        "water_solid_force": float(state.water_solid_force),
+        "adhesive_force_total": float(adh_total),
+        "repulsive_force": float(state.repulsive_force),
+        "contact_area": float(state.contact_area),
+        "wetted_area": float(state.wetted_area),
+        "island_count": int(state.island_count),
+        "kelvin_radius": float(opts["kelvin_radius"]),
+        "capillary_pressure": float(opts["capillary_pressure"]) * c,
+        "contribution_coefficient": c,
+        "film_thickness_1": float(f1.mean_thickness),
+        "film_thickness_2": float(f2.mean_thickness),
+        "film_iterations_1": int(f1.iterations),
+        "film_iterations_2": int(f2.iterations),
+        "outer_iterations": int(state.outer_iterations),
+        "films_exceed_relief": bool(films > 0 and films >= relief),
+        "converged": bool(state.converged and f1.converged and f2.converged),
+    })
+    return row
+
+
+def step_maps(state, f1, f2) -> dict:
+    """The per-RH maps of :data:`STEP_FIELDS` of one solved state."""
+    isl = state.islands
+    contact = np.asarray(state.normal.contact, dtype=bool)
+    active = np.asarray(isl.active, dtype=bool)
+    maps = {
+        "film_thickness_1": f1.thickness,
+        "film_thickness_2": f2.thickness,
+        "meniscus": active & ~contact,
+        "island_labels": isl.labels,
+        "island_active": active,
+    }
+    return {k: np.asarray(v).astype(STEP_FIELDS[k][0]) for k, v in maps.items()}
+
+
+def _film_notes(rh, f1, f2) -> list[str]:
+    return [f"RH {rh:g}, film on body{i}: {f.message}" for i, f in ((1, f1), (2, f2)) if not f.converged]
+
+
+def run(pb, bar) -> dict:
+    """Run a ``capillary`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
+
+    Returns the runner dict (rows, results, labels, indices, curve, run, warnings, plus
+    ``step_fields``: per-RH maps aligned with ``results``, and ``representative``: the index
+    of the RH with the most tensile capillary force, the state ``output.fields = "last"`` keeps).
+    """
+    from ..solvers.capillary import solve_capillary
+
+    sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
+    kw = solve_kw(sc)
+    relief = float(np.ptp(pb.gap))
+    n = len(hs.rh)
+    bar.phase("RH steps", n)
+    rows, results, labels, notes = [], [], [], []
+    maps: dict[str, list] = {k: [] for k in STEP_FIELDS}
+    prev = None
+    for k, rh in enumerate(hs.rh):
+        with warnings.catch_warnings():
+            # Non-convergence is flagged per step (converged = false) and gathered below.
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            f1, f2 = films_at(pb, rh, kw["tol"])
+            opts = capillary_options(pb, rh)
+            loadkw = {"normal_force": load.force} if load.force is not None else {"approach": load.approach}
+            state = solve_capillary(pb.operator, pb.gap, **loadkw, film1=f1.thickness, film2=f2.thickness,
+                                    tol=kw["tol"], max_iterations=kw["max_iterations"], initial=prev, **opts)
+        row = capillary_row(state, rh, f1, f2, opts, relief)
+        rows.append(row)
+        results.append(state.normal)
+        labels.append(f"RH {rh:g}")
+        for name, m in step_maps(state, f1, f2).items():
+            maps[name].append(m)
+        notes += _film_notes(rh, f1, f2)
+        if not state.converged:
+            notes.append(f"RH {rh:g}: {state.message}")
+        if row["films_exceed_relief"]:
+            notes.append(f"RH {rh:g}: the films (mean e1 + e2 = {row['film_thickness_1'] + row['film_thickness_2']:.3g} m) "
+                         f"reach the relief of the gap ({relief:.3g} m peak to valley): the water buries the "
+                         "roughness and the meniscus covers the whole non-contact area")
+        prev = state if state.converged else prev
+        bar(k + 1, n)
+    fcap = np.array([r["capillary_force"] for r in rows], dtype=float)
+    ipk = int(np.nanargmin(fcap)) if np.any(np.isfinite(fcap)) else 0
+    run_level = {"peak_capillary_force": float(fcap[ipk]), "peak_capillary_rh": float(rows[ipk]["rh"]),
+                 "load_control": "force" if load.force is not None else "approach"}
+    return {"rows": rows, "results": results, "labels": labels, "indices": list(range(n)), "curve": None,
+            "run": run_level, "warnings": notes, "representative": ipk,
+            "step_coords": {"rh": ([r["rh"] for r in rows], {"units": "1", "long_name": "relative humidity"}),
+                            "capillary_pressure": ([r["capillary_pressure"] for r in rows],
+                                                   {"units": "Pa", "long_name": "applied capillary pressure"})},
+            "step_fields": {name: (maps[name], STEP_FIELDS[name][1]) for name in STEP_FIELDS}}

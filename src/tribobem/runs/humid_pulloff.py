@@ -1,0 +1,183 @@
+"""Run kind ``pulloff`` with ``[humidity]``: the humid pull-off, one per RH (Papers B and C).
+
+For every RH of ``[humidity] rh`` (in the order given):
+
+1. both bodies' films are levelled on their undeformed topographies (as in
+   :mod:`tribobem.runs.capillary`);
+2. the start: the self-consistent capillary state at ``load.preload`` (force control), or at
+   zero external load without a preload (the bodies brought into contact and let go);
+3. quasi-static unloading under displacement control: the approach steps down from the start,
+   every state solved self-consistently with the meniscus islands recomputed from its own gap
+   (:func:`~tribobem.solvers.capillary.solve_capillary`, warm-started from the previous
+   step), in about ``load.steps / 2`` steps down to zero approach (the first touch of the
+   undeformed bodies), then in steps of an eighth of the interaction range (the Dugdale range
+   h0 or the meniscus cut height, whichever is larger) until the bodies have separated: no
+   contact, no active meniscus and a force within 1e-3 of the most tensile one;
+4. the most tensile force is refined by ``2 load.refine - 1`` finer continuation steps between
+   its two neighbours.  The pull-off force is the most tensile force of that unloading curve
+   (Papers A, C: the most negative force on the force-approach curve; under displacement
+   control the unstable branch is followed, so this is the force-controlled jump-off force
+   where the curve has one minimum).
+
+Each RH is one summary.json step: the SPEC 9.1 capillary keys of the state at pull-off
+(:func:`tribobem.runs.capillary.capillary_row`) plus ``pull_off_force``, ``pull_off_approach``,
+``preload`` and ``unloading_steps``; its ``converged`` also requires every state of the
+unloading to have converged.  Run level: ``pull_off_force`` and ``pull_off_approach`` (lists in
+RH order, SPEC 9.1), ``preload``, ``preload_source`` and ``unloading_curves`` (per RH: approach,
+force, capillary force, contact and meniscus areas, converged, per unloading state).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from ..errors import ConvergenceWarning
+from .capillary import STEP_FIELDS, capillary_options, capillary_row, films_at, step_maps
+from .common import solve_kw
+
+__all__ = ["run", "humid_pull_off"]
+
+#: How summary.json names the start of the unloading without a preload (as runs.pulloff).
+ZERO_LOAD = "zero external load (adhesive equilibrium at F = 0)"
+#: The bodies count as separated once the force is within this fraction of the most tensile one.
+SEPARATED = 1e-3
+
+
+def _interaction_range(pb, opts: dict, f1, f2) -> float:
+    """Largest gap (m) at which an attraction can still switch on or off: the Dugdale range h0
+    or the meniscus cut height S = |r_k| (cos t1 + cos t2) + e1 + e2 plus the critical distance."""
+    rng = pb.interaction.h0 if pb.interaction is not None else 0.0
+    rk = abs(float(opts["kelvin_radius"]))
+    if math.isfinite(rk):
+        t1, t2 = opts["contact_angles"]
+        s = rk * (math.cos(t1) + math.cos(t2)) + float(np.max(f1.thickness)) + float(np.max(f2.thickness))
+        rng = max(rng, s + float(opts["critical_distance"]))
+    return rng if rng > 0 else float(opts["cutoff"])
+
+
+def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int, refine: int, tol: float,
+                   max_iterations: int, max_steps: int = 400):
+    """The pull-off at one RH (module docstring, steps 2-4) on films ``f1``, ``f2``.
+
+    Returns
+    -------
+    dict
+        ``state`` (the CapillaryResult at pull-off), ``start`` (at the preload), ``curve``
+        (lists: approach, force, capillary_force, contact_area, wetted_area, converged, sorted
+        from the start outward), ``force``, ``approach``, ``opts`` and ``notes``.
+    """
+    from ..solvers.capillary import solve_capillary
+
+    opts = capillary_options(pb, rh)
+    common = dict(film1=f1.thickness, film2=f2.thickness, tol=tol, max_iterations=max_iterations, **opts)
+    notes: list[str] = []
+    target = 0.0 if preload is None else float(preload)
+    start = solve_capillary(pb.operator, pb.gap, normal_force=target, **common)
+    if not start.converged:
+        notes.append(f"RH {rh:g}: the start at F = {target:.4g} N did not converge ({start.message})")
+    d0 = float(start.normal.approach)
+    states = [start]
+
+    def step(d, prev):
+        s = solve_capillary(pb.operator, pb.gap, approach=float(d), initial=prev, **common)
+        states.append(s)
+        return s
+
+    rng = _interaction_range(pb, opts, f1, f2)
+    # down to zero approach (the first touch of the undeformed bodies) in about n_steps / 2 steps
+    n_down = max(n_steps // 2, 2)
+    prev = start
+    if math.isfinite(d0) and d0 > 0:
+        for d in np.linspace(d0, 0.0, n_down + 1)[1:]:
+            prev = step(d, prev)
+    d = min(float(prev.normal.approach), 0.0) if math.isfinite(prev.normal.approach) else 0.0
+    dd = rng / 8.0
+    fmin = min(s.total_force for s in states)
+    for _ in range(max_steps):
+        d -= dd
+        prev = step(d, prev)
+        fmin = min(fmin, prev.total_force)
+        separated = (not np.any(prev.normal.contact) and prev.island_count == 0
+                     and abs(prev.total_force) <= SEPARATED * abs(fmin))
+        if separated:
+            break
+    else:
+        notes.append(f"RH {rh:g}: the unloading did not separate the bodies within {max_steps} steps of {dd:.3g} m")
+    # refine around the most tensile converged state by finer continuation from its predecessor
+    ok = [i for i, s in enumerate(states) if s.converged]
+    if ok and refine > 0:
+        order = sorted(range(len(states)), key=lambda i: -states[i].normal.approach if math.isfinite(states[i].normal.approach) else 0)
+        i = min(ok, key=lambda k: states[k].total_force)
+        pos = order.index(i)
+        if 0 < pos < len(order) - 1:
+            a, b = states[order[pos - 1]], states[order[pos + 1]]
+            prev = a
+            for d in np.linspace(a.normal.approach, b.normal.approach, 2 * refine + 1)[1:-1]:
+                prev = step(d, prev)
+    ok = [s for s in states if s.converged] or states
+    at = min(ok, key=lambda s: s.total_force)
+    path = sorted(states, key=lambda s: -s.normal.approach if math.isfinite(s.normal.approach) else math.inf)
+    curve = {
+        "rh": float(rh),
+        "approach": [float(s.normal.approach) for s in path],
+        "force": [float(s.total_force) for s in path],
+        "capillary_force": [float(s.capillary_force) for s in path],
+        "contact_area": [float(s.contact_area) for s in path],
+        "wetted_area": [float(s.wetted_area) for s in path],
+        "converged": [bool(s.converged) for s in path],
+    }
+    bad = sum(1 for s in states if not s.converged)
+    if bad:
+        notes.append(f"RH {rh:g}: {bad} of {len(states)} unloading states did not converge (the pull-off is taken "
+                     "over the converged ones)")
+    return {"state": at, "start": start, "curve": curve, "force": float(min(at.total_force, 0.0)),
+            "approach": float(at.normal.approach), "opts": opts, "notes": notes, "n_states": len(states),
+            "all_converged": bad == 0}
+
+
+def run(pb, bar) -> dict:
+    """Run a ``pulloff`` scenario with ``[humidity]`` on its built Problem (module docstring).
+
+    Returns the runner dict (rows, results, labels, indices, curve, run, warnings, step_fields,
+    step_coords, representative).
+    """
+    sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
+    kw = solve_kw(sc)
+    relief = float(np.ptp(pb.gap))
+    n = len(hs.rh)
+    bar.phase("humid pull-off (RH)", n)
+    rows, results, labels, notes, curves = [], [], [], [], []
+    maps: dict[str, list] = {k: [] for k in STEP_FIELDS}
+    for k, rh in enumerate(hs.rh):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            f1, f2 = films_at(pb, rh, kw["tol"])
+            po = humid_pull_off(pb, rh, f1, f2, preload=load.preload, n_steps=load.steps, refine=load.refine,
+                                tol=kw["tol"], max_iterations=kw["max_iterations"])
+        state = po["state"]
+        row = capillary_row(state, rh, f1, f2, po["opts"], relief)
+        row.update({"branch": "pull-off", "pull_off_force": po["force"], "pull_off_approach": po["approach"],
+                    "preload": float(po["start"].total_force), "unloading_steps": po["n_states"],
+                    "converged": bool(row["converged"] and po["all_converged"])})
+        rows.append(row)
+        results.append(state.normal)
+        labels.append(f"pull-off RH {rh:g}")
+        for name, m in step_maps(state, f1, f2).items():
+            maps[name].append(m)
+        curves.append(po["curve"])
+        notes += po["notes"]
+        notes += [f"RH {rh:g}, film on body{i}: {f.message}" for i, f in ((1, f1), (2, f2)) if not f.converged]
+        bar(k + 1, n)
+    forces = [r["pull_off_force"] for r in rows]
+    run_level = {"pull_off_force": forces, "pull_off_approach": [r["pull_off_approach"] for r in rows],
+                 "pull_off_control": "displacement", "preload": load.preload if load.preload is not None else 0.0,
+                 "preload_source": "load.preload" if load.preload is not None else ZERO_LOAD,
+                 "unloading_curves": curves}
+    ipk = int(np.argmin(forces)) if forces else 0
+    return {"rows": rows, "results": results, "labels": labels, "indices": list(range(n)), "curve": None,
+            "run": run_level, "warnings": notes, "representative": ipk,
+            "step_fields": {name: (maps[name], STEP_FIELDS[name][1]) for name in STEP_FIELDS},
+            "step_coords": {"rh": ([r["rh"] for r in rows], {"units": "1", "long_name": "relative humidity"})}}
