@@ -47,26 +47,34 @@ def test_demo_small(tmp_path):
     s = json.loads((out / "summary.json").read_text())
     assert s["kind"] == "pulloff" and s["pull_off_force"] is not None and s["pull_off_force"] <= 0
     assert s["inputs"]["grid"]["n"] == 32
+    # the key result and its resolution in one line: the tiny grid does not resolve the zone
+    line = [x for x in r.output.splitlines() if x.startswith("pull-off")]
+    assert len(line) == 1 and "Maugis-Dugdale" in line[0] and "NOT resolved" in line[0]
 
 
-def test_demo_falls_back_to_a_generated_surface(monkeypatch):
+def test_demo_needs_no_input_files(monkeypatch):
     import tribobem.cli as cli
 
     monkeypatch.setattr(cli, "find_data_dir", lambda: None)
-    sc, where = cli.demo_scenario(small=True)
-    assert sc["body1"]["roughness"]["kind"] == "gaussian" and "generated" in where
+    sc, where = cli.demo_scenario()
+    assert "roughness" not in sc["body1"] and "roughness" not in sc["body2"]
     from tribobem.scenario import parse_scenario
 
-    parse_scenario(sc)
+    parsed = parse_scenario(sc)
+    assert parsed.kind == "pulloff" and parsed.load.preload is None
+    assert parsed.expected.values["pull_off_force"] == pytest.approx(-0.25e-6, rel=1e-3)
 
 
-@needs_park
-def test_demo_uses_the_park_scan():
-    import tribobem.cli as cli
-
-    sc, where = cli.demo_scenario()
-    assert sc["body1"]["roughness"]["kind"] == "file"
-    assert Path(sc["body1"]["roughness"]["path"]).name == "example_ps.tiff"
+def test_demo_is_resolved_and_meets_maugis_dugdale(tmp_path):
+    """The full demo (128^2, ~5 s of solving): no resolution warning, pull-off within its stated
+    3 % of Maugis-Dugdale, and the line says so."""
+    out = tmp_path / "demo"
+    r = invoke("demo", "--out", out, "--quiet")
+    assert r.exit_code == 0, r.output
+    s = json.loads((out / "summary.json").read_text())
+    assert s["warnings"] == [] and s["expected"]["met"]
+    assert s["cohesive_zone_cells"] > 8
+    assert "cohesive zone" in r.output and ": resolved)" in r.output
 
 
 def _write(tmp_path, text, name="s.toml"):
@@ -184,7 +192,12 @@ def fake_validation(monkeypatch):
 
     mod = types.ModuleType("tribobem.validation")
     state = {"rows": [_Row("hertz", True)]}
-    mod.run_validation = lambda quick=True, cases=None: state["rows"]
+    def run_validation(quick=True, cases=None, progress=None, *, level=None, physics=None):
+        state["calls"].append({"level": level, "cases": cases, "physics": physics})
+        return state["rows"]
+
+    mod.run_validation = run_validation
+    state["calls"] = []
     monkeypatch.setitem(sys.modules, "tribobem.validation", mod)
     return state
 
@@ -197,6 +210,15 @@ def test_validate_table_json_and_exit_codes(fake_validation):
     fake_validation["rows"].append(_Row("jkr", False))
     r = invoke("validate", "--full")
     assert r.exit_code == 1 and "FAIL" in r.output
+    assert fake_validation["calls"][-1] == {"level": "full", "cases": None, "physics": None}
+
+
+def test_validate_ci_tier_by_physics(fake_validation):
+    r = invoke("validate", "--ci", "--physics", "adhesion", "--physics", "studies", "--case", "guduru")
+    assert r.exit_code == 0 and "tribobem validation (ci: adhesion, studies)" in r.output
+    assert fake_validation["calls"][-1] == {"level": "ci", "cases": ["guduru"], "physics": ["adhesion", "studies"]}
+    d = json.loads(runner.invoke(app, ["validate", "--ci", "--json"]).stdout)
+    assert d["level"] == "ci" and d["passed"] and d["cpu_time"] >= 0
 
 
 @pytest.mark.parametrize("example", EXAMPLES, ids=[e.stem for e in EXAMPLES])

@@ -41,7 +41,7 @@ import numpy as np
 
 __all__ = [
     "result_warnings", "warning_names", "cohesive_cells", "cohesive_gap_step", "patch_width",
-    "stick_zone_width", "scan_pixel", "compare_expected", "CHECKS",
+    "stick_zone_width", "scan_pixel", "compare_expected", "pull_off_statement", "CHECKS",
     "MIN_COHESIVE_CELLS", "FULL_CONTACT", "MAX_A_OVER_R", "MIN_CONTACT_CELLS", "MIN_STICK_CELLS",
     "MAX_GAP_STEP",
 ]
@@ -328,3 +328,30 @@ def compare_expected(summary: Mapping, expected: Mapping | None) -> dict | None:
     met = all(r["within"] for r in rows) and all(w["present"] for w in warns)
     return {"reference": expected.get("reference"), "tolerance": tol, "values": rows, "warnings": warns,
             "met": bool(met)}
+
+
+def pull_off_statement(summary: Mapping) -> str:
+    """One line for a pull-off run: the pull-off force, its expected value and the resolution.
+
+    E.g. ``"pull-off -0.2549 µN (Maugis-Dugdale ... -0.25 µN, +2.0 %; cohesive zone 10.1 cells
+    wide: resolved)"``; "NOT resolved" with the names of the checks that fired.
+    """
+    from ..units import format_quantity
+
+    f = summary.get("pull_off_force")
+    text = f"pull-off {format_quantity(f, 'force', 4)}"
+    inside = []
+    exp = summary.get("expected") or {}
+    for row in exp.get("values") or []:
+        if row.get("key") == "pull_off_force" and row.get("relative_error") is not None:
+            sign = "+" if abs(row["computed"]) >= abs(row["expected"]) else "-"
+            inside.append(f"{exp.get('reference') or 'expected'}: {format_quantity(row['expected'], 'force', 4)}, "
+                          f"{sign}{100 * row['relative_error']:.1f} %")
+    fired = warning_names(summary.get("warnings") or [])
+    cells = summary.get("cohesive_zone_cells")
+    zone = f"cohesive zone {cells:.1f} cells wide" if isinstance(cells, (int, float)) else "cohesive zone"
+    if fired:
+        inside.append(f"{zone}: NOT resolved ({', '.join(fired)}: see the warnings)")
+    else:
+        inside.append(f"{zone}: resolved")
+    return f"{text} ({'; '.join(inside)})"

@@ -5,8 +5,8 @@ adhesive equilibrium at zero external load), reached by loading under displaceme
 from the first touch (:func:`~tribobem.solvers.paths.solve_at_force`); then
 :func:`~tribobem.solvers.paths.pull_off` unloads and refines the most negative force.  The
 optional loading branch runs under displacement control from separation to the approach of
-that start.  Run-level ``pull_off_force``, ``preload`` (the force the unloading started from)
-and ``preload_source``.
+that start.  Run-level ``pull_off_force``, ``preload`` (the force the unloading started from),
+``preload_source`` and ``cohesive_zone_cells`` (cells across the cohesive zone at pull-off).
 """
 
 from __future__ import annotations
@@ -32,6 +32,10 @@ def run(pb, bar) -> dict:
     """
     from ..solvers.paths import approach_curve, pull_off
 
+    if getattr(pb, "humidity", None) is not None:  # [humidity]: one pull-off per RH (runs.humid_pulloff)
+        from .humid_pulloff import run as humid_run
+
+        return humid_run(pb, bar)
     sc, load = pb.scenario, pb.scenario.load
     kw = solve_kw(sc)
     inter = pb.interaction
@@ -62,8 +66,14 @@ def run(pb, bar) -> dict:
             if jj["kind"] == "jump-off" and (jj["index"], "jump-off") not in seen:
                 curve.jumps.append(jj)
         curve.jumps.sort(key=lambda j: j["index"])
+    from ..output.checks import cohesive_cells
+
     run = {"pull_off_force": po.force, "pull_off_approach": po.approach, "pull_off_control": load.control,
            "preload": po.preload, "preload_source": "load.preload" if load.preload is not None else ZERO_LOAD}
+    if at is not None:
+        # cells across the cohesive zone at pull-off (the resolution of the number above)
+        w = cohesive_cells(at)
+        run["cohesive_zone_cells"] = w if math.isfinite(w) else None
     if load.loading:
         run["hysteresis_energy"] = curve.hysteresis_energy
     # index of the preload state in the steps: the first unloading row
