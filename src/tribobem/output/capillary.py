@@ -6,7 +6,7 @@
 * ``meniscus``: meniscus/island maps at chosen RH (Paper B Fig. 12): contact, Dugdale zone,
   meniscus (active islands outside contact), dry cross-cut islands (below the cut height but
   without a seed) and free nodes;
-* ``films``: the levelled film thickness of each body that carries one, at chosen RH.
+* ``films``: the levelled film thickness of each body whose film is not uniform, at chosen RH.
 
 The chosen RH (:func:`chosen_steps`): the first and the last RH of fields.nc, the one of the
 most tensile capillary force and one in between (at most four).  Every function reads the
@@ -79,7 +79,7 @@ def chosen_steps(ds, summary: dict | None, at_most: int = 4) -> list[int]:
     pk = capillary_step(ds, summary)
     if pk is not None:
         picks.append(pk)
-    if n > 3:
+    if n >= 3:
         picks.append(order[n // 2])
     out = []
     for i in sorted(set(int(i) for i in picks), key=lambda i: (rh[i], i)):
@@ -248,7 +248,13 @@ def films_figure(ds, steps, path) -> Path | None:
     modulation of a mean thickness that grows with RH)."""
     if ds is None or not steps:
         return None
-    bodies = [b for b in (1, 2) if f"film_thickness_{b}" in ds and np.any(np.asarray(ds[f"film_thickness_{b}"].values) > 0)]
+    def varies(b):  # a uniform film (a dry body, a smooth flat, levelling "uniform") has no map worth showing
+        if f"film_thickness_{b}" not in ds:
+            return False
+        e = np.asarray(ds[f"film_thickness_{b}"].values)[list(steps)]
+        return bool(np.any(e > 0) and np.any(np.ptp(e.reshape(len(steps), -1), axis=1) > 1e-3 * e.mean()))
+
+    bodies = [b for b in (1, 2) if varies(b)]
     if not bodies:
         return None
     rh = _rh_of(ds)

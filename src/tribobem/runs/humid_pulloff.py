@@ -114,8 +114,11 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
         pos = order.index(i)
         if 0 < pos < len(order) - 1:
             a, b = states[order[pos - 1]], states[order[pos + 1]]
+            done = np.array([s.normal.approach for s in states])
             prev = a
             for d in np.linspace(a.normal.approach, b.normal.approach, 2 * refine + 1)[1:-1]:
+                if np.any(np.abs(done - d) <= 1e-9 * abs(dd)):
+                    continue  # already solved there (the minimum itself)
                 prev = step(d, prev)
     ok = [s for s in states if s.converged] or states
     at = min(ok, key=lambda s: s.total_force)
