@@ -13,6 +13,12 @@ in the order they run):
     ``force_balance``, ``periodic_vs_free``.
 :mod:`~tribobem.validation.adhesion`
     ``maugis_dugdale``, ``md_pull_off``, ``guduru``.
+:mod:`~tribobem.validation.studies`
+    ``bisinusoidal_resolution`` (the published 625-case table of Paper A section 6).
+
+Three tiers: ``quick`` (small grids, under a minute), ``ci`` (the gating tier of CI: the cases
+that protect published numbers at a resolution that still discriminates, about five minutes
+per physics on two cores, :mod:`~tribobem.validation.gate`) and ``full`` (every accuracy bar).
 
 Shared pieces (:class:`ValidationRow`, the row arithmetic, the silica/rigid-ball pair) live in
 :mod:`~tribobem.validation.common`.  A new physics is a new module and one line in
@@ -33,7 +39,7 @@ from .adhesion import (
 from .common import PAIR, SILICA, CaseFunction, ValidationRow, _row, _solve  # noqa: F401 (re-exported)
 
 __all__ = [
-    "CASES", "ValidationRow", "run_validation",
+    "CASES", "PHYSICS", "PHYSICS_CASES", "LEVELS", "ValidationRow", "run_validation",
     "MaugisDugdaleProblem", "maugis_dugdale_problem", "md_cells_cohesive", "md_pull_off_scan", "maugis_dugdale_rows", "md_pull_off_rows",
     "GuduruProblem", "guduru_problem", "guduru_analytic_path", "guduru_rows", "guduru_compare",
     "guduru_extrema", "guduru_path", "md_pull_off", "MD_LAMBDAS",
@@ -46,29 +52,38 @@ PHYSICS = (
     "tangential",  # cattaneo_mindlin, cattaneo_periodic, mindlin_stiffness, coupling_sign, spence
     "hysteresis",  # mindlin_deresiewicz
     "paper_e",     # paper_e (dissimilar adhesive hysteresis, Paper E 3.2)
+    "studies",     # bisinusoidal_resolution (the published Paper A section 6 table)
 )
 
 
-def _assemble() -> dict[str, CaseFunction]:
+def _assemble() -> tuple[dict[str, CaseFunction], dict[str, tuple[str, ...]]]:
     cases: dict[str, CaseFunction] = {}
+    by_physics: dict[str, tuple[str, ...]] = {}
     for physics in PHYSICS:
-        for name, fn in import_module(f"{__name__}.{physics}").CASES.items():
+        module_cases = import_module(f"{__name__}.{physics}").CASES
+        for name, fn in module_cases.items():
             if name in cases:
                 raise RuntimeError(f"validation case {name!r} is defined twice (validation.{physics})")
             cases[name] = fn
-    return cases
+        by_physics[physics] = tuple(module_cases)
+    return cases, by_physics
 
 
-#: name -> case function ``rows(quick) -> list[ValidationRow]``, in the order they run.
-CASE_FUNCTIONS: dict[str, CaseFunction] = _assemble()
+#: name -> case function ``rows(quick) -> list[ValidationRow]``, in the order they run;
+#: physics -> the names of its cases.
+CASE_FUNCTIONS, PHYSICS_CASES = _assemble()
 _RUNNERS = CASE_FUNCTIONS  # the name of the single-module version
 
 #: The validation cases, in the order they run.
 CASES = tuple(CASE_FUNCTIONS)
 
+#: The tiers of :func:`run_validation`.
+LEVELS = ("quick", "ci", "full")
+
 
 def run_validation(quick: bool = True, cases: Iterable[str] | None = None,
-                   progress: Callable[[int, int, str], None] | None = None) -> list[ValidationRow]:
+                   progress: Callable[[int, int, str], None] | None = None, *, level: str | None = None,
+                   physics: Iterable[str] | None = None) -> list[ValidationRow]:
     """Run validation cases and return their rows.
 
     Parameters
@@ -81,6 +96,13 @@ def run_validation(quick: bool = True, cases: Iterable[str] | None = None,
         Names from :data:`CASES`; all by default.
     progress : callable, optional
         Called as ``progress(done, total, case)`` after each case.
+    level : {"quick", "ci", "full"}, optional
+        The tier; overrides ``quick``.  ``"ci"``: the gating tier of CI
+        (:mod:`tribobem.validation.gate`: published numbers at a resolution that fits about five
+        minutes per physics on two cores).
+    physics : iterable of str, optional
+        Only the cases of these physics modules (names from :data:`PHYSICS`); combined with
+        ``cases`` the two selections intersect.
 
     Returns
     -------
@@ -89,16 +111,33 @@ def run_validation(quick: bool = True, cases: Iterable[str] | None = None,
     Raises
     ------
     InputError
-        For an unknown case name.
+        For an unknown case name, physics or level.
     """
+    if level is None:
+        level = "quick" if quick else "full"
+    if level not in LEVELS:
+        raise InputError("validate.level", f"must be one of {', '.join(LEVELS)}, got {level!r}")
     names = list(CASES) if cases is None else list(cases)
     unknown = [c for c in names if c not in CASE_FUNCTIONS]
     if unknown:
         raise InputError("validate.cases", f"unknown case(s) {', '.join(map(repr, unknown))}; "
                                            f"choose among {', '.join(CASES)}")
+    if physics is not None:
+        physics = list(physics)
+        bad = [p for p in physics if p not in PHYSICS_CASES]
+        if bad:
+            raise InputError("validate.physics", f"unknown physics {', '.join(map(repr, bad))}; "
+                                                 f"choose among {', '.join(PHYSICS)}")
+        selected = {c for p in physics for c in PHYSICS_CASES[p]}
+        names = [c for c in names if c in selected]
     rows: list[ValidationRow] = []
     for k, name in enumerate(names):
-        rows += CASE_FUNCTIONS[name](quick)
+        if level == "ci":
+            from .gate import gate_rows
+
+            rows += gate_rows(name, CASE_FUNCTIONS[name])
+        else:
+            rows += CASE_FUNCTIONS[name](level == "quick")
         if progress:
             progress(k + 1, len(names), name)
     return rows
