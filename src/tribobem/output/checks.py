@@ -316,7 +316,9 @@ def compare_expected(summary: Mapping, expected: Mapping | None) -> dict | None:
     rows = []
     for key, ref in (expected.get("values") or {}).items():
         got, where = _summary_value(summary, key, expected.get("step"))
-        if isinstance(got, (int, float)) and not isinstance(got, bool) and math.isfinite(got):
+        if isinstance(got, (int, float, np.floating, np.integer)) and not isinstance(got, (bool, np.bool_)) \
+                and math.isfinite(float(got)):
+            got = float(got)
             err = abs(got - ref) / abs(ref) if ref != 0 else abs(got)
             within = tol is not None and err <= tol
         else:
