@@ -13,7 +13,7 @@ from .output import read_fields, read_summary
 from .results import CoupledResult, NormalResult, TangentialResult
 from .scenario import RunResult, Scenario, ScenarioError, load_scenario, parse_scenario, run_scenario
 from .solvers import GrossSlipError, SlipRamp, normal_path, solve_coupled, solve_normal, solve_tangential, tangential_ramp
-from .solvers.paths import LoadCurve, PullOff, approach_curve, force_curve, pull_off
+from .solvers.paths import LoadCurve, PullOff, approach_curve, force_curve, pull_off, solve_at_force
 from .units import to_si
 
 __version__ = "0.1.0"
@@ -23,7 +23,7 @@ __all__ = [
     "Grid", "Material", "ContactPair", "effective_modulus", "DugdaleAdhesion",
     # operators and solvers
     "make_operator", "periodic_operator", "free_boundary_operator",
-    "solve_normal", "approach_curve", "force_curve", "pull_off",
+    "solve_normal", "approach_curve", "force_curve", "pull_off", "solve_at_force",
     "solve_tangential", "solve_coupled", "tangential_ramp", "normal_path",
     # results
     "NormalResult", "LoadCurve", "PullOff", "TangentialResult", "CoupledResult", "SlipRamp",
