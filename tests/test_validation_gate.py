@@ -71,19 +71,22 @@ def test_published_corners_are_the_published_table():
 def test_bisinusoidal_quick_reproduces_the_published_values():
     rows = run_validation(quick=True, cases=["bisinusoidal_resolution"])
     assert len(rows) == 2 and all(r.passed for r in rows), rows
-    assert all(r.tolerance == 0.03 for r in rows)
+    assert all(r.tolerance == 0.05 for r in rows)
 
 
 def test_bisinusoidal_rows_fail_for_a_changed_solver(monkeypatch):
-    """A solver whose pull-off is 4 % stronger fails the reproduction rows; one whose grid error
-    does not fall with the cell fails the resolution rows."""
+    """A solver whose pull-off is 6 % stronger fails every reproduction row, one 2 % stronger
+    the mean; one whose grid error does not fall with the cell fails the resolution rows."""
     import tribobem.validation.studies as st
 
     true = {c[:4]: c[4] for c in st.PUBLISHED_CORNERS}
-    monkeypatch.setattr(st, "_pull_off", lambda dg, R, E, k, n: 1.04 * true[(dg, R, E, k)])
+    monkeypatch.setattr(st, "_pull_off", lambda dg, R, E, k, n: 1.06 * true[(dg, R, E, k)])
     rows = st.bisinusoidal_resolution_rows(quick=False)
     reproduction = [r for r in rows if "published table" in r.quantity]
     assert len(reproduction) == 17 and not any(r.passed for r in reproduction)
+    monkeypatch.setattr(st, "_pull_off", lambda dg, R, E, k, n: 1.02 * true[(dg, R, E, k)])
+    rows = st.bisinusoidal_resolution_rows(quick=False)
+    assert [r.passed for r in rows if "published table" in r.quantity] == [True] * 16 + [False]  # the mean
     assert not [r for r in rows if "grid-error ratio" in r.quantity][0].passed    # no grid dependence at all
     # first-order convergence from above, as measured: every row passes
     monkeypatch.setattr(st, "_pull_off", lambda dg, R, E, k, n: true[(dg, R, E, k)] * (1 + 8.0 / n))
