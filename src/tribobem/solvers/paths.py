@@ -345,6 +345,7 @@ def solve_at_force(
     tol: float = 1e-10,
     max_iterations: int = 10000,
     max_solves: int = 60,
+    start: NormalResult | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> NormalResult:
     """The state at a total force, reached by loading under displacement control.
@@ -379,6 +380,9 @@ def solve_at_force(
         Settings of each solve.
     max_solves : int
         Upper bound on the solves.
+    start : NormalResult, optional
+        A converged state to continue from instead of the first touch (e.g. the previous target
+        of a series of forces along one branch).
     progress : callable, optional
         ``progress(solves, max_solves)`` after each solve.
 
@@ -423,9 +427,14 @@ def solve_at_force(
         res.info = dict(res.info or {}, target_force=force, force_scale=scale, solves=solves, full_contact=bool(full))
         return res
 
-    cur = solve(0.0, None)
-    if not cur.converged:
-        raise InputError("force", f"the first touch (approach 0) has no converged solution: {cur.message}")
+    if start is not None:
+        if not start.converged or not math.isfinite(start.approach):
+            raise InputError("start", "must be a converged state with a finite approach")
+        cur = start
+    else:
+        cur = solve(0.0, None)
+        if not cur.converged:
+            raise InputError("force", f"the first touch (approach 0) has no converged solution: {cur.message}")
     scale = max(abs(force), abs(cur.force))
     if abs(cur.force - force) <= rtol * scale:
         return done(cur)
@@ -449,8 +458,11 @@ def solve_at_force(
             d = min(d, d_full)
         nxt = solve(d, cur)
         halvings = 0
-        while up and not nxt.converged and halvings < 6 and solves < max_solves:
-            # a step too long for the solver: shorten it
+        min_step = rng / 4.0 if rng > 0 else first
+        while (not nxt.converged or (not up and _separated(nxt))) and halvings < 8 and solves < max_solves \
+                and (up or abs(d - cur.approach) > min_step):
+            # a step too long (for the solver, or past the end of the branch): shorten it; the
+            # branch ends (no equilibrium) only where a step of h0/4 separates the bodies
             d = 0.5 * (cur.approach + d)
             nxt = solve(d, cur)
             halvings += 1
