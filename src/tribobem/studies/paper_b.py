@@ -191,7 +191,12 @@ def gather(spec, outdir):
                          "film_thickness": st.get("film_thickness_1"),
                          "outer_iterations": st.get("outer_iterations"), "iterations": st.get("iterations"),
                          "converged": bool(st.get("converged")), "elapsed": rec.get("elapsed"), "status": status})
-    return pd.DataFrame(rows)
+    cols = ["case", "lac_ratio", "rms", "seed", "force", "levelling", "n", "size", "rh", "capillary_force",
+            "solid_solid_force", "water_solid_force", "adhesive_total", "repulsive_force", "wetted_fraction",
+            "contact_fraction", "island_count", "kelvin_radius", "film_thickness", "outer_iterations", "iterations",
+            "converged", "elapsed", "status"]
+    # every column even when nothing has run yet (a partial sweep gathers NaN)
+    return pd.DataFrame(rows).reindex(columns=cols)
 
 
 def peak(curves, case: str) -> tuple[float, float]:
@@ -409,7 +414,7 @@ def plot_study(curves, path, title: str | None = None) -> Path:
         ax.axhline(0.0, color="0.6", lw=0.6)
         ax.set_xlabel("RH (%)")
         ax.set_ylabel("force (\u00b5N), < 0 tensile")
-        if ax.get_lines():
+        if any(not ln.get_label().startswith("_") for ln in ax.get_lines()):
             ax.legend(fontsize=7)
     if title:
         fig.suptitle(title, fontsize=11)
