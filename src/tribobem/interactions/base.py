@@ -1,4 +1,21 @@
-"""The interaction protocol used by the normal solver."""
+"""The interaction protocol used by the normal solver.
+
+Required: ``floor`` and ``outside_stress(gap, xp)`` (package docstring).  The gap passed to
+``outside_stress`` is either grid-shaped or the flat C-order ravel of a grid-shaped field (the
+normal solver passes the flat one); a law that depends on the POSITION (e.g. meniscus
+islands, local film thicknesses: :class:`~tribobem.interactions.capillary.CapillaryInteraction`)
+must accept both.  ``floor`` should equal the law's limit at zero gap, s(0+), so that a node
+leaving the contact continues its stress.
+
+Optional, for laws that vary SMOOTHLY with the gap (van der Waals 1/g^3 terms):
+``outside_branch(gap, xp)`` returns, per node, an integer or boolean label of the piece of a
+piecewise-smooth law the node is on (the law being continuous in the gap within a piece).
+The normal solver then treats a change of outside stress without a change of piece as a
+fixed-point update of the load (no restart of its conjugate directions), and a change of
+piece, like a change of the contact set, as a change of the problem.  Without the method
+(Dugdale: a step law; no interaction) every change of an outside stress counts as a change of
+the problem, as before.
+"""
 
 from __future__ import annotations
 

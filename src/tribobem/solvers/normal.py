@@ -27,7 +27,17 @@ Differences from the printed algorithm (documented in the README):
 * the conjugate direction restarts from steepest descent whenever a node changes status
   (Polonsky-Keer restart only on overlap), after a force rescale, and when it is not a
   descent direction: warm starts then need fewer iterations than cold starts and adhesive
-  solves about 25 % fewer, for about 3 % more on non-adhesive rough contacts.
+  solves about 25 % fewer, for about 3 % more on non-adhesive rough contacts;
+* smooth outside laws (an interaction with ``outside_branch``, see interactions.base, e.g.
+  the capillary law with its van der Waals 1/g^3 terms): their stresses change at every
+  iteration, which restarted the CG at every iteration.  A change that keeps every node on
+  the same piece of the law is now deferred: the CG runs on the frozen outside load until
+  its relative pressure change falls below 10 x the relative mismatch of the outside
+  stresses, then the outside stresses are applied (one restart) -- an inexact fixed point on
+  the outside load.  Convergence also requires that mismatch below ``tol``.  Measured on a
+  sphere (R = 1 um, 128^2-320^2, capillary + van der Waals, with and without Dugdale):
+  1.5-3x fewer iterations than restarting; rough 256^2 contacts: 1.0-1.4x.  Dugdale and
+  non-adhesive solves are bitwise unchanged.
 """
 
 from __future__ import annotations
@@ -177,7 +187,7 @@ def solve_normal(
         if status is not None:
             message = status
             break
-        residual = max(state.error, state.gap_residual)
+        residual = max(state.error, state.gap_residual, state.out_error)
         history.append(residual)
         if residual < best:
             best, best_it = residual, it
@@ -272,8 +282,15 @@ class _CGState:
         self.work = xp.empty(self.size)
         self.p_old = xp.empty(self.size)
         self.W = None  # K(p_out + floor 1_C), valid while no node changes status
-        # Stress of a node that just left the contact (its gap is ~0).
-        self.s0 = float(op.backend.to_numpy(inter.outside_stress(xp.zeros(1), xp))[0]) if self.has_outside else 0.0
+        # Stress of a node that just left the contact (its gap is ~0), per node: a law may
+        # depend on the position (e.g. meniscus islands).
+        self.s0 = inter.outside_stress(xp.zeros(self.size), xp) if self.has_outside else 0.0
+        # Optional: which piece of a piecewise-smooth law each node is on (see
+        # interactions.base).  Without it every change of an outside stress is a status change.
+        self.branch_fn = getattr(inter, "outside_branch", None) if self.has_outside else None
+        self.branch = None
+        self.out_error = 0.0  # relative mismatch of deferred smooth outside stresses
+        self.defer_ratio = 10.0  # apply once the CG change is within 10x the outside mismatch (measured best of 0.3-30)
         self.make_exact()
 
     @property
@@ -360,7 +377,30 @@ class _CGState:
             out_changed = not bool(xp.array_equal(out_new, p))
         else:
             out_new, out_changed = None, False
-        changed = any_overlap or out_changed or not bool(stays.all())
+        # A smooth change of the outside stresses (no node changes piece of the law, see
+        # interactions.base) is deferred while the CG on the frozen outside load is still
+        # making progress, and applied (with a restart: the load changed) once the CG has
+        # converged to the level of the outside mismatch: applying it at every iteration
+        # restarts the CG every iteration (steepest descent), and applying it while keeping
+        # the conjugate directions stalls them.  Convergence requires the mismatch to vanish.
+        smooth = False
+        self.out_error = 0.0
+        if self.branch_fn is not None:
+            branch = self.branch_fn(g, xp)
+            if out_changed and self.branch is not None:
+                smooth = not bool(xp.any((branch != self.branch) & ~self.cflat))
+            self.branch = branch
+        defer = False
+        if smooth and not any_overlap and bool(stays.all()):
+            work = self.work
+            xp.subtract(out_new, p, out=work)
+            xp.abs(work, out=work)
+            norm = float(xp.abs(p).sum())
+            self.out_error = float(work.sum()) / norm if norm > 0 else float(work.sum())
+            defer = self.error > self.defer_ratio * self.out_error
+        changed = any_overlap or (out_changed and not defer) or not bool(stays.all())
+        if changed:
+            self.out_error = 0.0  # the rebuild below applies every outside stress
 
         if not changed:
             p[idx] = p_c_new
@@ -373,7 +413,7 @@ class _CGState:
                 p[...] = out_new
             else:
                 p[idx] = 0.0
-            p[idx] = xp.where(stays, p_c_new, self.s0)
+            p[idx] = xp.where(stays, p_c_new, self.s0[idx] if self.has_outside else self.s0)
             cm = self.cflat
             cm[idx] = stays
             if any_overlap:
