@@ -125,8 +125,8 @@ def test_run_prints_a_table(tmp_path):
         (GOOD.replace('forces = ["1 uN", "2 uN"]', 'force = "3 nm"'), ["load.force", "expected a force (N)", "3 nm"]),
         (GOOD.replace("nu = 0.28", "nu = 0.8"), ["body1.nu", "(-1, 0.5]"]),
         (GOOD.replace('kind = "normal"', 'kind = "capillary"').replace(
-            'forces = ["1 uN", "2 uN"]', 'force = "1 uN"\n[humidity]\nrh = [0.5]'),
-         ["not implemented yet in this version"]),
+            'forces = ["1 uN", "2 uN"]', 'force = "1 uN"\n[humidity]\nrh = [1.5]'),
+         ["humidity.rh[0]", "(0, 1]"]),
         ("kind = \n", ["not valid TOML"]),
         (GOOD.replace("n = 16", "n = 131072"), ["GiB"]),
     ],

@@ -126,6 +126,7 @@ KIND_EXTRAS = {
     "pulloff": {"load__preload": "1 uN", "adhesion": {"work_of_adhesion": 0.05, "z0": 3e-10}},
     "partial_slip": {"friction": {"coefficient": 0.2}},
     "hysteresis": {"friction": {"coefficient": 0.2, "path": {"control": "force", "cycles": 1, "steps": 8}}},
+    "capillary": {"humidity": {"rh": [0.5]}},
 }
 
 

@@ -56,6 +56,7 @@ RUNNERS: dict[str, Runner] = {
     "pulloff": _runner("pulloff"),
     "partial_slip": _runner("partial_slip"),
     "hysteresis": _runner("hysteresis"),
+    "capillary": _runner("capillary"),
     # a new kind: its module runs/<kind>.py and one line here
 }
 
