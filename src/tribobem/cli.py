@@ -126,6 +126,11 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         cols = (("normal_force", "F", "force"), ("tangential_force_x", "F_x", "force"),
                 ("displacement_x", "\u03b4_x", "length"), ("contact_area", "A_c", "area"),
                 ("stick_ratio", "A_st/A_c", "dimensionless"), ("max_pressure", "p_max", "pressure"))
+    elif any("capillary_force" in s for s in steps):
+        # Capillary kinds: one row per RH with the adhesive force components and the meniscus.
+        cols = (("rh", "RH", "dimensionless"), ("normal_force", "F", "force"), ("capillary_force", "F_cap", "force"),
+                ("solid_solid_force", "F_ss", "force"), ("water_solid_force", "F_ws", "force"),
+                ("contact_area", "A_c", "area"), ("wetted_area", "A_men", "area"), ("island_count", "islands", "dimensionless"))
     scales = {}
     for key, label, dim in cols:
         vals = [s.get(key) for s in steps if s.get(key) is not None]
@@ -159,7 +164,11 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
                           f"displacement {format_quantity(summary.get('presliding_displacement'), 'length', 4)}")
         elif summary.get("gross_slip") is False:
             console.print(f"no gross slip along the ramp (\u03bc = {mu:g}); the largest step keeps a stick zone")
-    if summary.get("pull_off_force") is not None:
+    if isinstance(summary.get("pull_off_force"), list):  # a humid pull-off: one per RH
+        console.print("pull-off force: " + ", ".join(
+            f"[bold]{format_quantity(s.get('pull_off_force'), 'force', 4)}[/bold] at RH {s.get('rh'):g}"
+            for s in steps if s.get("rh") is not None))
+    elif summary.get("pull_off_force") is not None:
         console.print(f"pull-off force: [bold]{format_quantity(summary['pull_off_force'], 'force', 4)}[/bold] "
                       f"at approach {format_quantity(summary.get('pull_off_approach'), 'length', 4)}")
     prob = summary.get("problem", {})
