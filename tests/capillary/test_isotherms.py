@@ -101,18 +101,29 @@ def test_fhh_closed_form():
         FHHIsotherm(a=1.0, exponent=0.0)
 
 
-def test_floor_continuation_is_finite_c1_and_decreasing():
+def test_floor_continuation_is_logarithmic_c1_and_decreasing():
     w = Water()
     f = SIO2.floor
     assert SIO2.relative_humidity(f) == pytest.approx(RH_FLOOR, rel=1e-9)
-    e = np.array([-1e-10, -1e-13, 0.0, 0.5 * f, f, 1.5 * f, 1e-12])
+    e = np.array([1e-30, 1e-20, 0.5 * f, f, 1.5 * f, 1e-12])
     pi = SIO2.disjoining_pressure(e, w)
     assert np.all(np.isfinite(pi)) and np.all(np.diff(pi) < 0)
     # at the floor Pi = -(R_g T / V) ln 1e-6 = 1.877 GPa
     assert SIO2.disjoining_pressure(f, w) == pytest.approx(w.pressure_scale * math.log(1e6), rel=1e-9)
+    # a table rising linearly from (0, 0) has RH ~ c e: the continuation is its own ln e law
+    # (b = floor RH'/RH = 1 + O(floor / 0.3 nm); measured 1 + 1.6e-6)
+    assert SIO2.disjoining_pressure(f / 10, w) - SIO2.disjoining_pressure(f, w) == pytest.approx(
+        w.pressure_scale * math.log(10), rel=1e-5)
     # slope continuous across the floor
     d = SIO2.disjoining_pressure_derivative(np.array([f * (1 - 1e-9), f * (1 + 1e-9)]), w)
     assert d[0] == pytest.approx(d[1], rel=1e-6)
+    # no film at all: infinite disjoining pressure; a negative film is an input error
+    assert SIO2.disjoining_pressure(0.0, w) == math.inf
+    with pytest.raises(InputError):
+        SIO2.disjoining_pressure(-1e-12, w)
+    # the FHH power law is continued the same way, without overflow
+    fhh = FHHIsotherm(1.0)
+    assert np.all(np.isfinite(fhh.disjoining_pressure(np.array([1e-25, 1e-15, fhh.floor]), w)))
 
 
 @pytest.mark.parametrize(

@@ -13,9 +13,10 @@ this protocol, not a copy of the solver.
 
 from .base import Interaction, NoInteraction
 from .dugdale import DugdaleAdhesion
+from .films import FilmResult, film_thickness, levelling_time
 from .isotherms import SI, SIO2, DryIsotherm, FHHIsotherm, Isotherm, TableIsotherm, isotherm_from_spec
 from .water import Water, check_rh
 
 __all__ = ["Interaction", "NoInteraction", "DugdaleAdhesion",
            "Water", "check_rh", "Isotherm", "TableIsotherm", "FHHIsotherm", "DryIsotherm", "SIO2", "SI",
-           "isotherm_from_spec"]
+           "isotherm_from_spec", "FilmResult", "film_thickness", "levelling_time"]

@@ -25,12 +25,13 @@ Conventions used by every isotherm here:
 * RH is a fraction in [0, 1]; thickness in m, >= 0. ``thickness(0) = 0``.
 * ``thickness(1)`` is the film at saturation: ``inf`` when the isotherm diverges there (FHH and
   the extrapolated tables), i.e. bulk water.
-* ``Pi(e) -> +inf`` as ``e -> 0`` (``RH_iso -> 0``). So that Newton iterates of the levelling
-  solver stay finite, ``ln RH_iso`` (hence ``Pi``) is continued *linearly* (value and slope
-  matched, C1) below a floor thickness ``floor = thickness(RH_FLOOR)``, ``RH_FLOOR = 1e-6``,
-  where ``Pi`` already exceeds ``(R_g T / V) ln 1e6``, about 1.9 GPa at 295 K; the
-  continuation keeps ``Pi`` strictly decreasing (a convex film energy) and is only visited
-  by films squeezed by a Laplace pressure of that size.
+* ``Pi(e) -> +inf`` as ``e -> 0`` (``RH_iso -> 0``): a film cannot be squeezed to nothing by a
+  finite Laplace pressure. Below a floor thickness ``floor = thickness(RH_FLOOR)``,
+  ``RH_FLOOR = 1e-6`` (where ``Pi`` already exceeds ``(R_g T / V) ln 1e6``, about 1.9 GPa at
+  295 K), ``ln RH_iso`` is continued *logarithmically*, ``ln RH_iso(e) = ln RH_iso(floor) +
+  b ln(e / floor)`` with ``b`` matching the slope (C1): for a table, whose RH rises linearly
+  from 0, this is the interpolant's own behaviour (b = 1), and it keeps a power-law isotherm
+  (FHH) free of overflow. ``Pi(0) = +inf``; a negative thickness is an input error.
 """
 
 from __future__ import annotations
@@ -56,7 +57,7 @@ __all__ = [
     "isotherm_from_spec",
 ]
 
-#: Relative humidity whose film thickness is the floor below which ln RH_iso is continued linearly.
+#: Relative humidity whose film thickness is the floor below which ln RH_iso is continued logarithmically.
 RH_FLOOR = 1e-6
 
 _DEFAULT_WATER = Water()
@@ -118,7 +119,7 @@ class Isotherm(ABC):
     # ------------------------------------------------------------------ public
     @property
     def floor(self) -> float:
-        """Thickness (m) below which ``ln RH_iso`` and ``Pi`` are continued linearly (module docstring)."""
+        """Thickness (m) below which ``ln RH_iso`` and ``Pi`` are continued logarithmically (module docstring)."""
         f = getattr(self, "_floor", None)
         if f is None:
             f = float(self._thickness(np.asarray(RH_FLOOR)))
@@ -169,32 +170,41 @@ class Isotherm(ABC):
         return _out(self._relative_humidity(_as_thickness(thickness, "thickness")))
 
     def log_relative_humidity(self, e, derivative: bool = False):
-        """``ln RH_iso(e)`` (and optionally its derivative in 1/m), for any real ``e``.
+        """``ln RH_iso(e)`` (and optionally its derivative in 1/m).
 
-        Below :attr:`floor` (including the negative thicknesses a Newton iterate may visit)
-        the function is continued linearly with the value and slope it has at the floor, so
-        it is finite, C1 and strictly increasing everywhere (module docstring).
+        Below :attr:`floor` the function is continued logarithmically (module docstring): it
+        is finite for every ``e > 0``, C1, strictly increasing, and ``-inf`` at ``e = 0``.
 
         Parameters
         ----------
         e : float or array_like
-            Thickness in m.
+            Thickness in m, >= 0.
         derivative : bool
-            Also return ``d ln RH_iso / de`` (1/m, >= 0).
+            Also return ``d ln RH_iso / de`` (1/m, >= 0; +inf at e = 0).
+
+        Raises
+        ------
+        InputError
+            A negative or NaN thickness.
         """
-        e = np.asarray(e, dtype=float)
-        if np.any(np.isnan(e)):
-            raise InputError("thickness", "film thickness is NaN")
-        floor = self.floor
-        low = e < floor
-        eh = np.where(low, floor, e)
-        g, dg = self._log_rh_above_floor(eh)
-        if np.any(low):
-            g = np.where(low, self._floor_log + self._floor_slope * (e - floor), g)
-            dg = np.where(low, self._floor_slope, dg)
+        e = _as_thickness(e, "thickness")
+        with np.errstate(divide="ignore"):
+            g, dg = self._log_rh(e)
         if derivative:
             return _out(g), _out(dg)
         return _out(g)
+
+    def _log_rh(self, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``ln RH_iso`` and its slope for thicknesses e >= 0, unvalidated (the solvers' fast path)."""
+        floor = self.floor
+        low = e < floor
+        g, dg = self._log_rh_above_floor(np.where(low, floor, e))
+        if np.any(low):
+            b = self._floor_slope * floor
+            el = np.where(low, e, floor)
+            g = np.where(low, self._floor_log + b * np.log(el / floor), g)
+            dg = np.where(low, b / el, dg)
+        return g, dg
 
     def disjoining_pressure(self, e, water: Water = _DEFAULT_WATER):
         """Disjoining pressure Pi(e) = -(R_g T / V) ln RH_iso(e), in Pa (SPEC 6).
@@ -202,15 +212,15 @@ class Isotherm(ABC):
         Parameters
         ----------
         e : float or array_like
-            Film thickness in m (values below :attr:`floor` use the linear continuation).
+            Film thickness in m, >= 0 (below :attr:`floor`: the logarithmic continuation).
         water : Water
             Supplies R_g T / V.
 
         Returns
         -------
         float or ndarray
-            Pi in Pa: positive, decreasing in e, +large as e -> 0 (about 1.9 GPa at the
-            floor), 0 where RH_iso = 1.
+            Pi in Pa: positive, decreasing in e, about 1.9 GPa at the floor, +inf at e = 0,
+            0 where RH_iso = 1.
         """
         return _out(-water.pressure_scale * np.asarray(self.log_relative_humidity(e)))
 
@@ -457,7 +467,7 @@ class DryIsotherm(Isotherm):
     def _log_rh_above_floor(self, e):
         raise InputError("isotherm", "a dry body has no film: its disjoining pressure is undefined")
 
-    def log_relative_humidity(self, e, derivative: bool = False):
+    def _log_rh(self, e):
         raise InputError("isotherm", "a dry body has no film: its disjoining pressure is undefined")
 
 
