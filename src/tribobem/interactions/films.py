@@ -435,7 +435,7 @@ def film_thickness(
         e = np.full(grid.shape, target)
         p_liq = -iso.disjoining_pressure(target, water) if target > 0 else math.nan
         return finish(FilmResult(e, h + e, target, mode, system, 0, True, 0.0,
-                                 f"uniform film of the isotherm thickness {target:.4g} m", rh=rh,
+                                 f"uniform film of thickness {target:.4g} m", rh=rh,
                                  liquid_pressure=float(p_liq)))
     if target <= 0.0:
         z = np.zeros(grid.shape)
