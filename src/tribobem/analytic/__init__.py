@@ -11,6 +11,7 @@ periodic  Westergaard sinusoid, bisinusoidal (JGH 1985) asymptotes, Paper A bisi
 rough     Greenwood-Williamson and Persson theories (thesis 2.1.1-2.1.2).
 mindlin   Cattaneo-Mindlin, Mindlin-Deresiewicz loops (SPEC 7, corrected Eq. 2.27c) and the
           Spence (1975) stick ratio of normal loading with friction (dissimilar bodies).
+capillary Sphere-flat capillary force with films (thesis A.27-A.29) and the island rule's value.
 
 Conventions: SI units, E* the composite modulus, forces positive when compressive, pull-off
 forces NEGATIVE (``*_pull_off_magnitude`` helpers give |F|), approach positive when the bodies
@@ -26,6 +27,7 @@ from .adhesion import (
     maugis_dugdale_pull_off_magnitude, maugis_dugdale_pull_off_point, maugis_dugdale_scales,
     maugis_from_tabor, maugis_parameter, tabor_from_maugis, tabor_parameter,
 )
+from .capillary import SphereFlatCapillary, sphere_flat_capillary, sphere_flat_island_force
 from .hertz import HertzSolution, hertz, hertz_pressure
 from .mindlin import (
     MindlinLoop, cattaneo_mindlin_displacement, cattaneo_mindlin_traction, cattaneo_stick_ratio,
@@ -85,4 +87,6 @@ __all__ = [
     "mindlin_unloading_stiffness", "mindlin_reloading_stiffness", "mindlin_loop_energy",
     "MindlinLoop", "mindlin_deresiewicz_loop",
     "spence_beta_over_mu", "spence_stick_ratio", "spence_traction",
+    # capillary
+    "SphereFlatCapillary", "sphere_flat_capillary", "sphere_flat_island_force",
 ]

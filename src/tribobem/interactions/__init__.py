@@ -12,11 +12,16 @@ this protocol, not a copy of the solver.
 """
 
 from .base import Interaction, NoInteraction
+from .capillary import CapillaryInteraction, ForceSplit
 from .dugdale import DugdaleAdhesion
+from .menisci import Islands, contribution_coefficient, meniscus_islands
+from .van_der_waals import VanDerWaals, combine_hamaker
 from .films import FilmResult, film_thickness, levelling_time
 from .isotherms import SI, SIO2, DryIsotherm, FHHIsotherm, Isotherm, TableIsotherm, isotherm_from_spec
 from .water import Water, check_rh
 
 __all__ = ["Interaction", "NoInteraction", "DugdaleAdhesion",
            "Water", "check_rh", "Isotherm", "TableIsotherm", "FHHIsotherm", "DryIsotherm", "SIO2", "SI",
-           "isotherm_from_spec", "FilmResult", "film_thickness", "levelling_time"]
+           "isotherm_from_spec", "FilmResult", "film_thickness", "levelling_time",
+           "CapillaryInteraction", "ForceSplit", "Islands", "meniscus_islands", "contribution_coefficient",
+           "VanDerWaals", "combine_hamaker"]

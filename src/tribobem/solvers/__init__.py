@@ -1,10 +1,11 @@
 """Solvers: constrained conjugate gradients for normal (and adhesive) contact, the tangential
 (partial-slip) solver, the normal-tangential coupling loop, load paths."""
 
+from .capillary import CapillaryResult, solve_capillary
 from .coupling import solve_coupled
 from .normal import solve_normal
 from .slip_paths import SlipRamp, normal_path, tangential_ramp
 from .tangential import GrossSlipError, solve_tangential
 
 __all__ = ["solve_normal", "solve_tangential", "solve_coupled", "tangential_ramp", "normal_path", "SlipRamp",
-           "GrossSlipError"]
+           "GrossSlipError", "solve_capillary", "CapillaryResult"]
