@@ -349,3 +349,14 @@ def test_bad_input_is_named(sphere128, kwargs, field):
     with pytest.raises(InputError) as err:
         solve_capillary(args.pop("operator"), args.pop("gap"), **args)
     assert err.value.field == field
+
+
+def test_validation_cases_registered_and_passing():
+    from tribobem.validation import CASES, PHYSICS_CASES, run_validation
+
+    assert PHYSICS_CASES["capillary"] == ("sphere_flat_capillary", "capillary_force_balance")
+    assert {"sphere_flat_capillary", "capillary_force_balance"} <= set(CASES)
+    rows = run_validation(level="quick", physics=["capillary"])
+    assert rows and all(r.passed for r in rows), [r for r in rows if not r.passed]
+    info = [r for r in rows if math.isinf(r.tolerance)]
+    assert info and all("RH 0.9" in r.quantity for r in info)  # the informational rows

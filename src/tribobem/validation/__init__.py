@@ -53,6 +53,7 @@ PHYSICS = (
     "hysteresis",  # mindlin_deresiewicz
     "paper_e",     # paper_e (dissimilar adhesive hysteresis, Paper E 3.2)
     "studies",     # bisinusoidal_resolution (the published Paper A section 6 table)
+    "capillary",   # sphere_flat_capillary, capillary_force_balance (Papers B, C)
 )
 
 
