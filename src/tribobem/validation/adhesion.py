@@ -16,8 +16,9 @@ Cases (:data:`CASES`)
     d = (9 pi^2 dgamma^2 R/(16 E*^2))^(1/3) and pi R dgamma, because both quantities cross zero
     along the curve.  Quick: lambda = 0.1 and 1 (force control at F = 0, displacement control at
     0.75 x pull-off); full: the six lambdas of SPEC 5 (lambda = 5 needs a 1248^2 grid, on
-    which the cold force-controlled solve at F = pi R dgamma currently stalls: its approach row
-    fails, see tests/solvers/test_adhesion.py::LAMBDA5_STALL).
+    which the cold force-controlled solve at F = pi R dgamma stalls: its force-control points
+    are reached by displacement-controlled loading instead, ``force_path`` of
+    :func:`maugis_dugdale_rows`).
 ``md_pull_off``
     Pull-off force of the same sphere by displacement-controlled unloading
     (:func:`tribobem.solvers.paths.pull_off`) vs the Maugis-Dugdale pull-off, 3%.  Quick:
@@ -53,7 +54,7 @@ from ..errors import ConvergenceWarning, InputError
 from ..geometry.shapes import sphere, wavy_sphere
 from ..grid import Grid
 from ..interactions.dugdale import DugdaleAdhesion
-from ..solvers.paths import approach_curve, pull_off
+from ..solvers.paths import approach_curve, pull_off, solve_at_force
 from .common import PAIR, ValidationRow, _row, _solve
 
 __all__ = [
@@ -175,7 +176,7 @@ def maugis_dugdale_problem(lam: float, *, radius: float = 2.5e-6, z0: float = 0.
 def maugis_dugdale_rows(prob: MaugisDugdaleProblem, *, forces: Sequence[float] | None = None,
                         approaches: Sequence[float] | None = None, tol: float = 0.03,
                         tol_dc_force: float = 0.05, solver_tol: float = 1e-10,
-                        dc_start: str = "cold") -> list[ValidationRow]:
+                        dc_start: str = "cold", force_path: str | None = None) -> list[ValidationRow]:
     """Compare a, c, approach (force control) and force, a, c (displacement control).
 
     ``tol`` (3%) applies to every row but the force under displacement control, which gets
@@ -191,16 +192,34 @@ def maugis_dugdale_rows(prob: MaugisDugdaleProblem, *, forces: Sequence[float] |
     displacement-control point from the force-controlled solution at the analytic force of that
     state instead; it inherits the approach error of the force-controlled state, which the
     contact stiffness turns into a force error (lambda = 5, 480^2: 5.4% instead of 0.3%).
+
+    ``force_path``: how the force-control points are solved: ``"direct"``, a force-controlled
+    solve from zero pressure; ``"approach"``, loading under displacement control from the first
+    touch to the first force and on along the branch to the next ones, interpolating the
+    force-approach curve (:func:`tribobem.solvers.paths.solve_at_force`, force within 1e-3).
+    Default: ``"approach"`` for lambda >= 5, where the direct solve stalls on the 1248^2 grid
+    (no progress in 2000 iterations at F = pi R dgamma), else ``"direct"``.
     """
     if dc_start not in ("cold", "force"):
         raise InputError("dc_start", f"must be 'cold' or 'force', got {dc_start!r}")
+    if force_path is None:
+        force_path = "approach" if prob.lam >= 5 else "direct"
+    if force_path not in ("direct", "approach"):
+        raise InputError("force_path", f"must be 'direct' or 'approach', got {force_path!r}")
     forces = prob.force_points() if forces is None else forces
     approaches = prob.approach_points() if approaches is None else approaches
     case = f"maugis_dugdale lambda={prob.lam:g} {prob.grid.nx}^2"
     rows = []
+    prev = None
     for F in forces:
         ref = prob.reference(force=F)
-        res = _solve(prob.operator, prob.gap, force=F, interaction=prob.adhesion, tol=solver_tol)
+        if force_path == "approach":
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ConvergenceWarning)
+                res = prev = solve_at_force(prob.operator, prob.gap, F, interaction=prob.adhesion, tol=solver_tol,
+                                            rtol=1e-3, start=prev)
+        else:
+            res = _solve(prob.operator, prob.gap, force=F, interaction=prob.adhesion, tol=solver_tol)
         at = f"F = {F / prob.F_scale:+.3g} pi R dgamma"
         rows += [
             _row(case, f"a at {at}", ref.contact_radius, res.contact_radius(), tol),
