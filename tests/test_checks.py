@@ -121,6 +121,30 @@ def test_edge_contact_warns_on_free_boundary_only():
     assert "edge" not in names(result_warnings([s], periodic=True))
 
 
+def _humid_state(meniscus_r, n=64):
+    """A contact disc (10 cells), a meniscus of uniform Laplace tension 90 MPa to ``meniscus_r``
+    cells and, beyond it, a van der Waals-like tail -200 MPa (2/r)^3 (r in cells from the
+    contact edge) that is nonzero on every node of the domain."""
+    s = state(n=n, contact_r=10)
+    r = _radius(n, (32, 32))
+    tail = -2e8 * (2.0 / np.maximum(r - 10 + 2, 2.0)) ** 3
+    p = np.where(s.contact, 1e8, np.where(r < meniscus_r, -9e7 + tail, tail))
+    return NormalResult(grid=s.grid, pressure=p, gap=s.gap, displacement=s.displacement, contact=s.contact,
+                        adhesive=~s.contact & (p < 0), force=1.0, approach=0.0, iterations=1,
+                        residual_history=np.array([0.0]), converged=True, time=0.0)
+
+
+def test_edge_check_ignores_a_van_der_waals_tail_but_not_a_meniscus():
+    """Humid runs: every non-contact node is tensile (the 1/g^3 tail); only tension of at least
+    1 % of the peak counts as cohesive zone, so a meniscus inside the domain does not warn, a
+    meniscus that reaches the edge does (regression: the tail made every humid free-boundary
+    run warn 'edge')."""
+    inside, reaching = _humid_state(meniscus_r=20), _humid_state(meniscus_r=40)
+    assert inside.adhesive[0, 0] and inside.pressure[0, 0] < 0  # the tail reaches the edge
+    assert "edge" not in names(result_warnings([inside], periodic=False))
+    assert "edge" in names(result_warnings([reaching], periodic=False))
+
+
 @pytest.mark.parametrize("adhesive_r, text", [(11.5, "cells wide"), (None, "narrower than one cell")])
 def test_unresolved_cohesive_zone_warns(adhesive_r, text):
     ws = result_warnings([state(contact_r=10, adhesive_r=adhesive_r)], periodic=False, interaction=ADH)
