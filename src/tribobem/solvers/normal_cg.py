@@ -1,0 +1,518 @@
+"""Normal contact: bound-constrained, FFT-preconditioned conjugate gradients (Vollebregt's NormCG).
+
+Same problem, same arguments and the same :class:`~tribobem.results.NormalResult` as
+:func:`tribobem.solvers.normal.solve_normal` (Polonsky-Keer); the two are interchangeable.
+Find the pressure p (Pa) with
+
+* p > floor on the contact nodes C (g = 0), floor = -sigma0 with Dugdale adhesion, else 0;
+* p = s(g) on the other nodes, s the interaction's outside stress (0 without adhesion);
+* total force = F0 (force control) or approach = delta (displacement control),
+
+where g = h + K p - delta.
+
+Method (Vollebregt, J. Comput. Phys. 257 (2014) 333-351, "BCCG+" as in CONTACT's
+``normcg``, m_solvpn.f90; written from the method, not translated):
+
+* **FFT-based preconditioner.**  The residual (the contact gap) is multiplied by M, the
+  convolution whose spectrum is the reciprocal of the operator's spectrum, restricted to the
+  contact: z = P_C M P_C g.  K is a smoothing operator of order -1 (2/(E* |q|) in Fourier
+  space), M of order +1, so M K is close to the identity at all wavelengths and the iteration
+  count no longer grows with the grid (Polonsky-Keer's does).  The periodic spectrum has no
+  q = 0 mode; M takes the value of its smallest nonzero wavevector there (the mean of a
+  residual on a partial contact is not in K's null space).  On the free-boundary (DC-FFT)
+  operator M is the reciprocal of the zero-padded kernel's spectrum (positive for the Love
+  coefficients; a non-positive mode, were there one, gets the smallest positive value).
+* **Force constraint by projection.**  Under force control z, the search direction d and K d
+  are made mean-free on the contact, so a step keeps the total force; the rigid approach is
+  the mean contact gap (as in Polonsky-Keer).  After nodes leave the contact the pressure is
+  rescaled to the force (the force balance of :mod:`.normal`: p - floor scaled on C).
+* **Bound constraints without restarts.**  Polak-Ribiere conjugation, beta = max(0, (r.z -
+  r_old.z)/r_old.z_old), continued across changes of the contact set (the direction is set
+  to 0 on nodes that leave), so that the many small changes of a rough contact do not throw
+  away the Krylov information -- Polonsky-Keer as implemented in :mod:`.normal` restarts from
+  steepest descent at every change.  Nodes whose pressure falls to the floor leave the
+  contact; non-contact nodes that overlap (g < 0) enter with their current pressure.
+* **Dugdale adhesion** (any interaction with a step law): the non-contact nodes carry
+  s(g), re-evaluated from the exact gap after every step (a fixed-point update of the outside
+  load, as in Polonsky-Keer); the CG acts on the contact nodes with that load frozen.  The
+  adhesive problem is not convex: from the same start the two solvers may stop at different,
+  equally valid equilibria (measured: benchmarks/normal_iterations.py).
+
+Convergence: the measures of :func:`.normal.solve_normal`, so that results at the same
+``tol`` are equally accurate -- the relative pressure change sum |p - p_old| / sum |p| and
+the rms gap on the contact nodes relative to the range of the initial gap must both fall
+below ``tol``, with no change of the contact set or outside stresses in that iteration and
+an exactly recomputed displacement.  Failure: ``ConvergenceWarning`` (or ``ConvergenceError``
+with ``strict``), ``converged=False``, the residual history.
+
+Cost per iteration: two convolutions (K d and M r), a third after an iteration in which nodes
+left the contact or outside stresses changed (the displacement is then recomputed exactly;
+otherwise it is updated incrementally and refreshed every ``refresh`` iterations).
+Measured on the benchmark surface (benchmarks/normal_iterations.py, numbers in
+benchmarks/README.md): see there.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+
+import numpy as np
+
+from ..elasticity.operators import ConvolutionOperator
+from ..errors import ConvergenceError, ConvergenceWarning, InputError
+from ..interactions.base import NoInteraction
+from ..results import NormalResult
+
+__all__ = ["solve_normal_cg", "fft_preconditioner"]
+
+
+def _dot(a, b) -> float:
+    """Dot product as a reduction (no BLAS threads spinning against the FFT threads)."""
+    return float((a * b).sum())
+
+
+def fft_preconditioner(operator: ConvolutionOperator) -> ConvolutionOperator:
+    """The FFT-based approximate inverse M of the normal operator (cached on the operator).
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        Elastic operator; its normal block K (m/Pa) is inverted.
+
+    Returns
+    -------
+    ConvolutionOperator
+        Convolution with spectrum 1/K(q) (Pa/m) on the same FFT grid (zero-padded for the
+        free boundary).  Modes where K(q) <= 0 (the q = 0 mode of a periodic operator) get
+        the smallest of the other values, i.e. the stiffness of the longest wavelength.
+    """
+    op = operator.normal
+    cached = op.__dict__.get("_normcg_preconditioner")
+    if cached is not None:
+        return cached
+    spec = op.spectrum()
+    if spec is None:
+        raise InputError("operator", "has no normal (zz) block: the normal solvers need one")
+    K = np.real(np.asarray(op.backend.to_numpy(spec)))
+    M = np.zeros_like(K)
+    positive = K > 0
+    M[positive] = 1.0 / K[positive]
+    # K(q) -> 0 only at q = 0 (periodic): continue 1/K with its longest-wavelength value.
+    M[~positive] = M[positive].min()
+    pre = ConvolutionOperator(op.grid, op.pair, ("z",), {"zz": op.backend.asarray(M)}, op.fft_shape, op.backend,
+                              f"NormCG preconditioner of {op.kind}")
+    op.__dict__["_normcg_preconditioner"] = pre
+    return pre
+
+
+def solve_normal_cg(
+    operator: ConvolutionOperator,
+    gap,
+    *,
+    force: float | None = None,
+    approach: float | None = None,
+    interaction=None,
+    tol: float = 1e-10,
+    max_iterations: int = 10000,
+    initial_pressure=None,
+    initial_contact=None,
+    strict: bool = False,
+    refresh: int = 50,
+    stall: int = 2000,
+    precondition: bool = True,
+) -> NormalResult:
+    """Solve a normal contact problem (with or without adhesion) by NormCG.
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        Elastic operator (its normal block is used), periodic or free boundary.
+    gap : array_like
+        Initial (undeformed) gap h(x, y) in m, shape ``grid.shape``.
+    force : float, optional
+        Total normal force F0 in N (force control); positive = compressive, may be negative
+        with adhesion.
+    approach : float, optional
+        Rigid approach delta in m (displacement control).  Give exactly one of ``force`` and
+        ``approach``.
+    interaction : Interaction, optional
+        Outside stress law, e.g. :class:`~tribobem.interactions.DugdaleAdhesion`; None:
+        non-adhesive contact.
+    tol : float
+        Tolerance on the relative pressure change per iteration and on the rms contact gap
+        relative to the range of ``gap`` (both must be below it), as in ``solve_normal``.
+    max_iterations : int
+        Iteration limit; each iteration costs two or three convolutions.
+    initial_pressure : array_like or NormalResult, optional
+        Warm start (Pa); a :class:`NormalResult` gives its pressure and contact mask.
+    initial_contact : array_like of bool, optional
+        Contact mask that goes with ``initial_pressure`` (default: p > floor).
+    strict : bool
+        Raise :class:`~tribobem.errors.ConvergenceError` instead of warning on failure.
+    refresh : int
+        Recompute the displacement exactly at least every ``refresh`` iterations.
+    stall : int
+        Stop (not converged) when the residual has not improved for this many iterations.
+    precondition : bool
+        Use the FFT preconditioner (default).  False gives the unpreconditioned
+        bound-constrained CG (for comparison).
+
+    Returns
+    -------
+    NormalResult
+        As :func:`~tribobem.solvers.normal.solve_normal`; ``info`` adds ``method``
+        ("normcg"), ``set_changes`` (iterations in which the contact set or an outside
+        stress changed) and ``convolutions`` (number of FFT convolutions).
+    """
+    t_start = time.perf_counter()
+    op = operator.normal
+    xp, grid = op.xp, op.grid
+    inter = interaction if interaction is not None else NoInteraction()
+    floor = float(inter.floor)
+    has_outside = not isinstance(inter, NoInteraction)
+
+    if (force is None) == (approach is None):
+        raise InputError("load", "give exactly one of force (force control) or approach (displacement control)")
+    h = xp.asarray(gap, dtype=float)
+    if h.shape != grid.shape:
+        raise InputError("gap", f"shape {tuple(h.shape)} does not match the grid {grid.shape}")
+    if not bool(xp.all(xp.isfinite(h))):
+        bad = int(xp.count_nonzero(~xp.isfinite(h)))
+        raise InputError("gap", f"{bad} points are NaN or infinite; fill or crop the topography first")
+    if not (tol > 0 and math.isfinite(tol)):
+        raise InputError("solver.tolerance", f"must be a finite value > 0, got {tol!r}")
+    if max_iterations < 1:
+        raise InputError("solver.max_iterations", f"must be >= 1, got {max_iterations!r}")
+    if refresh < 1:
+        raise InputError("solver.refresh", f"must be >= 1, got {refresh!r}")
+
+    cell = grid.cell_area
+    force_control = force is not None
+    if force_control:
+        if not math.isfinite(force):
+            raise InputError("load.force", f"must be finite, got {force!r}")
+        if floor == 0.0 and force <= 0.0:
+            raise InputError("load.force", f"must be > 0 N without adhesion, got {force!r}")
+        target = force / cell  # target sum of p (Pa)
+        h_eff = h
+    else:
+        target = None
+        if not math.isfinite(approach):
+            raise InputError("load.approach", f"must be finite, got {approach!r}")
+        h_eff = h - approach
+
+    # Initial pressure and contact set (as solve_normal).
+    if isinstance(initial_pressure, NormalResult):
+        initial_contact = initial_pressure.contact if initial_contact is None else initial_contact
+        initial_pressure = initial_pressure.pressure
+    if initial_pressure is not None:
+        p = xp.array(initial_pressure, dtype=float)
+        if p.shape != grid.shape:
+            raise InputError("initial_pressure", f"shape {tuple(p.shape)} does not match the grid {grid.shape}")
+        p = xp.maximum(p, floor)
+    else:
+        p = xp.full(grid.shape, target / h.size) if force_control else xp.zeros(grid.shape)
+    if initial_contact is not None:
+        contact = xp.asarray(initial_contact, dtype=bool) & (p > floor)
+    elif force_control or initial_pressure is not None:
+        contact = p > floor
+    else:
+        contact = xp.zeros(grid.shape, dtype=bool)
+    if force_control and not bool(contact.any()):
+        # A warm start without contact cannot be rescaled to the force: start cold.
+        p = xp.full(grid.shape, target / h.size)
+        contact = p > floor
+
+    solver = _NormCG(op, inter, floor, h_eff, p, contact, target, refresh,
+                     fft_preconditioner(op) if precondition else None)
+    history: list[float] = []
+    converged = False
+    message = ""
+    best, best_it = float("inf"), 0
+    status = solver.start()
+    it = 0
+    while status is None and it < max_iterations:
+        it += 1
+        status = solver.iterate()
+        if status is not None:
+            break
+        residual = max(solver.pressure_change, solver.gap_residual)
+        history.append(residual)
+        if residual < best:
+            best, best_it = residual, it
+        elif it - best_it >= stall:
+            status = (f"stalled: no progress in {stall} iterations (residual {residual:.3e}, best "
+                      f"{best:.3e}, tolerance {tol:.1e}); near an instability there may be no equilibrium")
+            break
+        if residual < tol and not solver.changed:
+            if solver.exact:
+                converged = True
+                status = f"converged in {it} iterations"
+                break
+            # The displacement was updated incrementally: confirm with an exact one.
+            solver.make_exact()
+            if solver.gap_residual < tol and not solver.changed:
+                converged = True
+                status = f"converged in {it} iterations"
+                break
+    if status is None:
+        status = (f"not converged after {max_iterations} iterations (residual {history[-1]:.3e}, "
+                  f"tolerance {tol:.1e})" if history else "not converged")
+    message = status
+
+    # Final fields, consistent with the returned pressure (the same as solve_normal).
+    p = solver.p.reshape(grid.shape)
+    contact = solver.cm.reshape(grid.shape)
+    u = op.apply(p)
+    g = u + h
+    n_c = int(xp.count_nonzero(contact))
+    if force_control:
+        delta = float(xp.sum(xp.where(contact, g, 0.0))) / n_c if n_c else float("nan")
+    else:
+        delta = float(approach)
+    g = g - delta if n_c or not force_control else g - float(xp.min(g))
+    gap_field = xp.where(contact, 0.0, xp.maximum(g, 0.0))
+    penetration = float(-xp.min(xp.where(contact, 0.0, g))) if n_c < g.size else 0.0
+    adhesive = (~contact) & (p < 0)
+    be = op.backend
+    total = float(xp.sum(p)) * cell
+    if not converged:
+        if strict:
+            raise ConvergenceError(message)
+        warnings.warn(message, ConvergenceWarning, stacklevel=2)
+    return NormalResult(
+        grid=grid,
+        pressure=be.to_numpy(p),
+        gap=be.to_numpy(gap_field),
+        displacement=be.to_numpy(u),
+        contact=be.to_numpy(contact),
+        adhesive=be.to_numpy(adhesive),
+        force=total,
+        approach=delta,
+        iterations=len(history),
+        residual_history=np.asarray(history),
+        converged=converged,
+        time=time.perf_counter() - t_start,
+        message=message,
+        control="force" if force_control else "displacement",
+        info={"max_penetration": max(penetration, 0.0), "interaction": repr(inter), "operator": op.kind,
+              "method": "normcg" if precondition else "bccg", "set_changes": solver.set_changes,
+              "convolutions": solver.convolutions},
+    )
+
+
+class _NormCG:
+    """Working state of the bound-constrained preconditioned CG (flat arrays).
+
+    ``p`` full pressure (Pa), ``cm`` contact mask, ``idx`` its flat indices, ``u`` = K p (m),
+    exact or incrementally updated, ``r`` the contact gap (m) on ``idx`` (mean-free under
+    force control), ``d`` the search direction on the full grid (0 off the contact).
+    """
+
+    def __init__(self, op, inter, floor, h_eff, p, contact, target, refresh, pre):
+        xp = op.xp
+        self.op, self.xp, self.inter, self.floor, self.pre = op, xp, inter, floor, pre
+        self.shape = h_eff.shape
+        self.h = h_eff.ravel()
+        self.target, self.refresh = target, refresh
+        self.force_control = target is not None
+        self.has_outside = not isinstance(inter, NoInteraction)
+        self.h_scale = max(float(self.h.max() - self.h.min()), 1e-300)
+        self.p = xp.array(p, dtype=float).ravel()
+        self.cm = xp.array(contact, dtype=bool).ravel()
+        self.idx = xp.flatnonzero(self.cm)
+        n = self.p.size
+        self.d = xp.zeros(n)        # search direction, 0 off the contact
+        self.r_old = xp.zeros(n)    # previous residual (Polak-Ribiere), 0 off the contact
+        self.work = xp.zeros(n)     # scatter buffer for the preconditioner
+        self.p_old = xp.empty(n)
+        self.rz_old = 0.0
+        self.delta = 0.0
+        self.changed = False
+        self.exact = False
+        self.since_exact = 0
+        self.set_changes = 0
+        self.convolutions = 0
+        self.pressure_change = float("inf")
+        self.gap_residual = float("inf")
+
+    # ---------------------------------------------------------------------------------
+    def K(self, v):
+        self.convolutions += 1
+        return self.op.apply(v.reshape(self.shape)).ravel()
+
+    def make_exact(self):
+        """Recompute u = K p and the contact residual exactly (changed: set/load changes)."""
+        self.u = self.K(self.p)
+        self.exact = True
+        self.since_exact = 0
+        self._classify()
+
+    def _balance(self) -> bool:
+        """Force control: scale p - floor on the contact to the target force.  False when
+        the contact cannot carry it (beyond pull-off)."""
+        xp, idx, floor = self.xp, self.idx, self.floor
+        if len(idx) == 0:
+            return False
+        p_c = self.p[idx]
+        sum_c = float(p_c.sum())
+        fixed = float(self.p.sum()) - sum_c if self.has_outside else 0.0
+        free = sum_c - floor * len(idx)
+        scale = (self.target - fixed - floor * len(idx)) / free if free > 0 else -1.0
+        if scale <= 0:
+            return False
+        self.scale = scale
+        self.p[idx] = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
+        return True
+
+    def _classify(self):
+        """Update the approach, let overlapping nodes enter, re-evaluate the outside stresses,
+        and form the contact residual.  Sets ``self.changed`` when anything changed."""
+        xp = self.xp
+        g = self.h + self.u
+        idx = self.idx
+        if self.force_control and len(idx):
+            self.delta = float(g[idx].mean())
+            g -= self.delta
+        # Non-contact nodes that overlap enter with their current pressure (the outside
+        # stress at g -> 0, i.e. the floor for a Dugdale law, 0 without adhesion).
+        overlap = (g < 0) & ~self.cm
+        entered = bool(overlap.any())
+        if entered:
+            self.cm |= overlap
+            self.idx = idx = xp.flatnonzero(self.cm)
+            self.changed = True
+        if self.has_outside:
+            out = self.inter.outside_stress(g, xp)
+            out = xp.where(self.cm, self.p, out)
+            if not bool(xp.array_equal(out, self.p)):
+                # The outside load changed (fixed-point step): rebalance and recompute.
+                self.p = out
+                self.changed = True
+                if self.force_control and not self._balance():
+                    return ("the contact cannot carry the requested force: the load is beyond "
+                            "pull-off (no equilibrium under force control)")
+                self.u = self.K(self.p)
+                self.exact, self.since_exact = True, 0
+                g = self.h + self.u
+                if self.force_control and len(idx):
+                    self.delta = float(g[idx].mean())
+                    g -= self.delta
+        self.g = g
+        self.r = g[idx]
+        n_c = len(idx)
+        self.gap_residual = math.sqrt(_dot(self.r, self.r) / n_c) / self.h_scale if n_c else 0.0
+        return None
+
+    def start(self):
+        """Force balance of the initial pressure, exact displacement, first classification."""
+        if self.force_control:
+            if len(self.idx) == 0 or not self._balance():
+                return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
+        if self.has_outside:
+            # Non-contact nodes start at the stress of their initial gap (p >= floor anyway).
+            pass
+        self.u = self.K(self.p)
+        self.exact, self.since_exact = True, 0
+        return self._classify()
+
+    def iterate(self):
+        """One NormCG iteration; returns an error message when no equilibrium exists."""
+        xp, idx, floor = self.xp, self.idx, self.floor
+        n_c = len(idx)
+        if n_c == 0:
+            if self.force_control:
+                return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
+            # Displacement control without contact: nothing to solve (no node overlaps).
+            self.changed = False
+            self.pressure_change = 0.0
+            self.gap_residual = 0.0
+            if not self.exact:
+                self.make_exact()
+            return None
+        self.changed = False
+        r = self.r
+
+        # Preconditioned residual z = P_C M P_C r (mean-free on C under force control).
+        if self.pre is not None:
+            w = self.work
+            w.fill(0.0)
+            w[idx] = r
+            self.convolutions += 1
+            z = self.pre.apply(w.reshape(self.shape)).ravel()[idx]
+        else:
+            z = r.copy()
+        if self.force_control:
+            z -= z.mean()
+
+        # Polak-Ribiere direction, kept across changes of the contact set (d = 0 off C).
+        rz = _dot(r, z)
+        d_c = self.d[idx]
+        if self.rz_old > 0 and rz > 0:
+            beta = max(0.0, (rz - _dot(z, self.r_old[idx])) / self.rz_old)
+            d_c *= beta
+            d_c += z
+        else:
+            d_c = z
+        if self.force_control:
+            d_c -= d_c.mean()
+        self.rz_old = rz
+        self.r_old.fill(0.0)
+        self.r_old[idx] = r
+        self.d.fill(0.0)
+        self.d[idx] = d_c
+
+        # Step length (exact line search on the contact, force-constrained).
+        q = self.K(self.d)
+        q_c = q[idx]
+        if self.force_control:
+            q_c = q_c - q_c.mean()
+        dq = _dot(d_c, q_c)
+        rd = _dot(r, d_c)
+        if not (dq > 0 and rd > 0):
+            # Not a descent direction (round-off near convergence): restart next time.
+            self.rz_old = 0.0
+            alpha = 0.0
+        else:
+            alpha = rd / dq
+
+        # Update on the contact; nodes that reach the floor leave it.
+        self.p_old[...] = self.p
+        p_c = self.p[idx] - alpha * d_c
+        leave = p_c <= floor
+        any_leave = bool(leave.any())
+        self.p[idx] = xp.maximum(p_c, floor)
+        if any_leave:
+            leavers = idx[leave]
+            self.cm[leavers] = False
+            self.d[leavers] = 0.0
+            self.idx = idx = xp.flatnonzero(self.cm)
+            self.changed = True
+            if self.force_control and not self._balance():
+                return ("the contact cannot carry the requested force: the load is beyond "
+                        "pull-off (no equilibrium under force control)")
+            self.u = self.K(self.p)
+            self.exact, self.since_exact = True, 0
+        else:
+            self.u -= alpha * q
+            self.since_exact += 1
+            self.exact = False
+            if self.since_exact >= self.refresh:
+                self.u = self.K(self.p)
+                self.exact, self.since_exact = True, 0
+        status = self._classify()
+        if status is not None:
+            return status
+        if self.changed:
+            self.set_changes += 1
+
+        # Relative pressure change (as solve_normal).
+        w = self.p_old
+        xp.subtract(self.p, w, out=w)
+        xp.abs(w, out=w)
+        norm = float(xp.abs(self.p).sum())
+        diff = float(w.sum())
+        self.pressure_change = diff / norm if norm > 0 else diff
+        return None
