@@ -15,6 +15,7 @@
 from __future__ import annotations
 
 import copy
+import json
 import math
 
 import numpy as np
@@ -276,3 +277,35 @@ def test_films_that_reach_the_relief_are_flagged():
     assert st["film_thickness_1"] + st["film_thickness_2"] >= relief
     assert st["films_exceed_relief"] is True
     assert any("relief" in w for w in r.summary["warnings"])
+
+
+def test_two_rigid_bodies_at_a_prescribed_approach_against_a27_a29(tmp_path):
+    """Issue 8 item 6 allows two rigid bodies for capillary runs at a prescribed approach: the
+    meniscus force of a rigid sphere touching a rigid flat, within 3 % of A.27-A.29 (RH 0.3-0.7),
+    no elastic operator built, the report written."""
+    scn = sphere_scenario()
+    scn["body1"] = {"rigid": True, "film": {"isotherm": "SiO2"}}
+    r = run_scenario(scn, outdir=tmp_path, progress=False)
+    assert r.converged
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["problem"]["operator"].startswith("none")
+    for st in r.steps:
+        e = SIO2.thickness(st["rh"])
+        assert st["capillary_force"] == pytest.approx(sphere_flat_force(st["rh"], e, e), rel=0.03)
+        # touching rigid bodies: the contact reaction is indeterminate, said so, not a number
+        assert st["contact_area"] > 0 and math.isnan(st["repulsive_force"]) and math.isnan(st["normal_force"])
+    assert any("indeterminate" in w for w in summary["warnings"])
+    assert (tmp_path / "report.html").exists()
+
+
+@pytest.mark.parametrize("kind, load", [("capillary", {"force": "1 uN"}), ("normal", {"approach": 0.0})])
+def test_two_rigid_bodies_elsewhere_are_a_scenario_error(kind, load):
+    scn = sphere_scenario()
+    scn["kind"], scn["load"] = kind, load
+    scn["body1"] = {"rigid": True, "film": {"isotherm": "SiO2"}}
+    if kind != "capillary":
+        scn.pop("humidity")
+        scn["body1"].pop("film")
+        scn["body2"].pop("film")
+    with pytest.raises(ScenarioError, match="both bodies are rigid"):
+        parse_scenario(scn)

@@ -164,7 +164,8 @@ def run(pb, bar) -> dict:
             opts = capillary_options(pb, rh)
             loadkw = {"normal_force": load.force} if load.force is not None else {"approach": load.approach}
             state = solve_capillary(pb.operator, pb.gap, **loadkw, film1=f1.thickness, film2=f2.thickness,
-                                    tol=kw["tol"], max_iterations=kw["max_iterations"], initial=prev, **opts)
+                                    tol=kw["tol"], max_iterations=kw["max_iterations"], initial=prev,
+                                    grid=pb.grid, **opts)
         row = capillary_row(state, rh, f1, f2, opts, relief)
         rows.append(row)
         results.append(state.normal)
@@ -172,6 +173,10 @@ def run(pb, bar) -> dict:
         for name, m in step_maps(state, f1, f2).items():
             maps[name].append(m)
         notes += _film_notes(rh, f1, f2)
+        if pb.operator is None and math.isnan(row["normal_force"]) and not any("indeterminate" in m for m in notes):
+            notes.append("both bodies rigid and touching: the contact reaction is indeterminate, so the normal, "
+                         "repulsive and contact forces are NaN; the capillary, solid-solid and water-solid forces "
+                         "are exact")
         if not state.converged:
             notes.append(f"RH {rh:g}: {state.message}")
         if row["films_exceed_relief"]:

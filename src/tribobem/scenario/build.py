@@ -470,7 +470,8 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     loader = _Loader(base)
     grid = _grid(sc, loader)
     grid.check_memory()
-    pair = ContactPair(body_material(sc.body1, "body1"), body_material(sc.body2, "body2"))
+    both_rigid = sc.body1.rigid and sc.body2.rigid  # only a capillary run at an approach (schema)
+    pair = None if both_rigid else ContactPair(body_material(sc.body1, "body1"), body_material(sc.body2, "body2"))
 
     info: dict = {}
     warns: list = []
@@ -486,7 +487,10 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     # Friction needs the coupled 3x3 operator (tangential and normal-tangential blocks).
     components = ("x", "y", "z") if (sc.friction is not None and sc.friction.coefficient is not None) else ("z",)
     try:
-        if grid.periodic:
+        if both_rigid:
+            # No elasticity: the capillary solver takes operator=None (rigid bodies).
+            op = None
+        elif grid.periodic:
             op = make_operator(grid, pair, components, backend=sc.solver.backend, kernel=sc.solver.kernel)
         else:
             op = make_operator(grid, pair, components, backend=sc.solver.backend)
@@ -498,11 +502,11 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
         interaction = DugdaleAdhesion(sc.adhesion.work_of_adhesion, sc.adhesion.z0)
     humidity = humidity_setup(sc, shape1, shape2, rough1, rough2) if sc.kind in ("capillary", "pulloff") else None
 
-    E_star = pair.effective_modulus
+    E_star = pair.effective_modulus if pair is not None else None  # None: both bodies rigid
     info.update({
         "grid": {"nx": grid.nx, "ny": grid.ny, "lx": grid.lx, "ly": grid.ly, "dx": grid.dx, "dy": grid.dy,
                  "periodic": grid.periodic},
-        "operator": op.kind,
+        "operator": op.kind if op is not None else "none (both bodies rigid)",
         "effective_modulus": E_star,
         "gap_peak_to_valley": float(gap.max()),
     })
@@ -512,7 +516,7 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     if interaction is not None:
         info["sigma0"] = interaction.sigma0
         info["h0"] = interaction.h0
-        if radius is not None:
+        if radius is not None and E_star is not None:
             info["tabor_parameter"] = interaction.tabor_parameter(radius, E_star)
             info["maugis_parameter"] = interaction.maugis_parameter(radius, E_star)
     for name, h in (("body1", rough1), ("body2", rough2)):

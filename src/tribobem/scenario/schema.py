@@ -789,9 +789,12 @@ class Scenario(Section):
 
     @model_validator(mode="after")
     def _consistent(self):
-        if self.body1.rigid and self.body2.rigid:
-            _fail("body2.rigid", "both bodies are rigid; give at least one a finite E")
         load, adh = self.load, self.adhesion
+        if self.body1.rigid and self.body2.rigid and not (self.kind == "capillary" and load.approach is not None):
+            # Two rigid bodies carry no force at a prescribed load; a capillary run at a
+            # prescribed approach is well defined (the meniscus force of rigid bodies, Paper B 4.1).
+            _fail("body2.rigid", "both bodies are rigid; give at least one a finite E (two rigid bodies are "
+                  "allowed only for kind = \"capillary\" at a prescribed load.approach)")
         if self.kind == "normal":
             given = load.given
             if len(given) != 1:
