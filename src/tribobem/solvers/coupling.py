@@ -9,6 +9,13 @@ from the other's last state, and owns nothing else:
 2. the tangential problem at that pressure (with K_tz p in the slip);
 3. until the relative pressure change sum|p - p_old| / sum|p| falls below ``coupling_tol``.
 
+A warm-started step (``initial``) first solves the tangential problem at the predicted pressure
+(the last step's, or its linear extrapolation): the shear-induced normal displacement of the
+first pass is then one contraction of the fixed point closer to the solution than the one of the
+old (or extrapolated) shear, and the first pass's pressure change, measured against the predicted
+pressure, is a genuine fixed-point difference (measured: one pass fewer per step, 3 instead of 4
+on the adhesive loop; the loop's forces and displacements closer to a 1e-9 reference).
+
 The outer fixed point uz -> K_zt q(p(uz)) is accelerated by Anderson(1) mixing, and the inner
 tangential solves are inexact (tolerance 1e-2 x the last pressure change, at most 1e-4) until
 the last pass, which is always solved to ``tangential_tol``.
@@ -29,7 +36,7 @@ from ..elasticity.operators import ConvolutionOperator
 from ..errors import ConvergenceWarning, InputError
 from ..results import CoupledResult, NormalResult
 from .normal import solve_normal
-from .tangential import solve_tangential, tangential_operator
+from .tangential import GrossSlipError, solve_tangential, tangential_operator
 
 __all__ = ["solve_coupled"]
 
@@ -38,14 +45,19 @@ __all__ = ["solve_coupled"]
 ANDERSON = True
 #: Loosest normal tolerance of the early coupling passes (None: every pass at full accuracy).
 INEXACT_NORMAL = 1e-6
+#: Solve the tangential problem at the predicted pressure before the first pass of a warm-started
+#: step (see ``solve_coupled``).
+PREDICTOR = True
 
 
-def _contraction(history, hint: float | None = None) -> float | None:
+def _contraction(history, hint: float | None = None, first: int = 1) -> float | None:
     """Contraction factor of the outer loop from its last two pressure changes (None while
     unknown or not clearly contracting).  Before two passes have been compared, ``hint`` (the
-    factor measured on the previous step, doubled for safety) stands in for it."""
-    if len(history) < 3:  # the first change is measured against the last step, not a pass
-        if len(history) == 2 and hint is not None:
+    factor measured on the previous step, doubled for safety) stands in for it.  ``first``: the
+    number of leading changes that are not fixed-point differences (1: the first pass measured
+    against the last step; 0: against the predictor's pressure, itself a fixed-point iterate)."""
+    if len(history) < first + 2:
+        if len(history) == first + 1 and hint is not None:
             return 2.0 * hint if 2.0 * hint < 0.5 else None
         return None
     a, b = history[-2], history[-1]
@@ -146,6 +158,7 @@ def solve_coupled(
 
     shear = None
     stick = None
+    predicted = None  # pressure at which the predictor solved the shear (a fixed-point iterate)
     rho_hint = None
     uz = None
     p_init = None
@@ -153,7 +166,10 @@ def solve_coupled(
         p_init = initial.normal
         shear = initial.tangential.shear
         stick = initial.tangential.stick
-        rho_hint = _contraction(list(initial.coupling_history))
+        # the contraction measured on the previous step (kept on the result by this function)
+        rho_hint = getattr(initial, "_contraction", None)
+        if rho_hint is None:
+            rho_hint = _contraction(list(initial.coupling_history))
         if extrapolate is not None:
             older, w = extrapolate
             w = float(w)
@@ -162,8 +178,27 @@ def solve_coupled(
                 p_x = (1.0 + w) * xp.asarray(initial.normal.pressure) - w * xp.asarray(older.normal.pressure)
                 p_init = (p_x, initial.normal.contact)
         if top.coupled and shear_on_pressure:
+            if PREDICTOR:
+                # Predictor: the tangential problem at the predicted pressure first.  The shear
+                # of the last step (even extrapolated) misses this step's shear by 1-10 %, and its
+                # normal displacement leaves the first pressure as far from the solution as the
+                # predicted one (measured: 2e-3 relative); the shear solved at the predicted
+                # pressure is one contraction (rho ~ 0.05) closer, so the first pass starts from
+                # a pressure error ~1e-4 and the loop needs one pass fewer.
+                p_pred = p_init[0] if isinstance(p_init, tuple) else initial.normal.pressure
+                c_pred = p_init[1] if isinstance(p_init, tuple) else initial.normal.contact
+                try:
+                    pre = solve_tangential(operator, p_pred, c_pred, friction_coefficient=friction_coefficient,
+                                           force=tangential_force, displacement=tangential_displacement,
+                                           reference=reference, initial_shear=shear, initial_stick=stick,
+                                           tol=max(tangential_tol, 1e-4), max_iterations=max_iterations)
+                except GrossSlipError:
+                    pre = None  # the predicted pressure cannot carry the force: start from the warm start
+                if pre is not None:
+                    shear, stick, predicted = pre.shear, pre.stick, xp.asarray(p_pred)
             uz = top.normal_from_shear(xp.asarray(shear[0]), xp.asarray(shear[1]))
     history: list[float] = []
+    first = 0 if predicted is not None else 1
     converged = False
     message = ""
     normal: NormalResult | None = None
@@ -180,7 +215,7 @@ def solve_coupled(
             # tolerance follows the last pressure change (the final pass is always solved to
             # ``tangential_tol``: the loop only stops after a pass at full accuracy).
             # The pass that the error estimate below will likely accept is solved at full accuracy.
-            rho = _contraction(history, rho_hint)
+            rho = _contraction(history, rho_hint, first)
             likely_last = rho is not None and _remaining(rho * last_change, rho) < 5.0 * coupling_tol
             t_tol = (tangential_tol if (not two_way or likely_last)
                      else max(tangential_tol, min(1e-4, 1e-2 * last_change)))
@@ -199,7 +234,11 @@ def solve_coupled(
                                     displacement=tangential_displacement, reference=reference,
                                     initial_shear=shear, initial_stick=stick, tol=t_tol,
                                     max_iterations=max_iterations)
-            if p_init is not None and isinstance(p_init, NormalResult):
+            if k == 1 and predicted is not None:
+                # the predictor solved the shear at this pressure: a fixed-point difference
+                p_prev = predicted
+                change = float(np.abs(normal.pressure - p_prev).sum()) / max(float(np.abs(normal.pressure).sum()), 1e-300)
+            elif p_init is not None and isinstance(p_init, NormalResult):
                 p_prev = p_init.pressure
                 change = float(np.abs(normal.pressure - p_prev).sum()) / max(float(np.abs(normal.pressure).sum()), 1e-300)
             else:
@@ -215,7 +254,7 @@ def solve_coupled(
             # Stop on the a-posteriori estimate of the remaining pressure error of a linear
             # contraction, change x rho / (1 - rho) (rho measured from the last two changes),
             # or on the change itself.
-            rho = _contraction(history, rho_hint)
+            rho = _contraction(history, rho_hint, first)
             done = change < coupling_tol or (rho is not None and _remaining(change, rho) < coupling_tol)
             if done and k > 1 and t_tol <= tangential_tol and n_tol <= tol:
                 converged = True
@@ -248,5 +287,7 @@ def solve_coupled(
             parts.append(f"tangential solver: {tang.message}")
         message = "; ".join(parts)
         warnings.warn(message, ConvergenceWarning, stacklevel=2)
-    return CoupledResult(normal=normal, tangential=tang, coupling_iterations=len(history),
-                         coupling_history=np.asarray(history), converged=ok, message=message)
+    res = CoupledResult(normal=normal, tangential=tang, coupling_iterations=len(history),
+                        coupling_history=np.asarray(history), converged=ok, message=message)
+    res._contraction = _contraction(history, None, first) if two_way else None
+    return res
