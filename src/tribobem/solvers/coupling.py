@@ -48,6 +48,9 @@ INEXACT_NORMAL = 1e-6
 #: Solve the tangential problem at the predicted pressure before the first pass of a warm-started
 #: step (see ``solve_coupled``).
 PREDICTOR = True
+#: Tolerance of the predictor's tangential solve (measured on the 128^2 loop: the first pass starts as
+#: close with 1e-2 as with 1e-6; 1e-3 saves 5 % of the FFTs against 1e-4).
+PREDICTOR_TOL = 1e-3
 
 
 def _contraction(history, hint: float | None = None, first: int = 1) -> float | None:
@@ -192,7 +195,7 @@ def solve_coupled(
                     pre = solve_tangential(operator, p_pred, c_pred, friction_coefficient=friction_coefficient,
                                            force=tangential_force, displacement=tangential_displacement,
                                            reference=reference, initial_shear=shear, initial_stick=stick,
-                                           tol=max(tangential_tol, 1e-4), max_iterations=max_iterations,
+                                           tol=max(tangential_tol, PREDICTOR_TOL), max_iterations=max_iterations,
                                            full_fields=False)
                 except GrossSlipError:
                     pre = None  # the predicted pressure cannot carry the force: start from the warm start
