@@ -45,6 +45,8 @@ __all__ = ["solve_coupled"]
 ANDERSON = True
 #: Loosest normal tolerance of the early coupling passes (None: every pass at full accuracy).
 INEXACT_NORMAL = 1e-6
+#: Loosest tangential tolerance of the early coupling passes.
+INEXACT_TANGENTIAL = 1e-4
 #: Solve the tangential problem at the predicted pressure before the first pass of a warm-started
 #: step (see ``solve_coupled``).
 PREDICTOR = True
@@ -258,7 +260,7 @@ def solve_coupled(
                 normal = solve_normal(operator, h_k, interaction=interaction, tol=tol, max_iterations=max_iterations,
                                       initial_pressure=normal, **normal_load)
             final = done or k == n_outer
-            t_tol = tangential_tol if final else max(tangential_tol, min(1e-4, 1e-2 * last_change))
+            t_tol = tangential_tol if final else max(tangential_tol, min(INEXACT_TANGENTIAL, 1e-2 * last_change))
             tang = solve_tangential(operator, normal.pressure, normal.contact,
                                     friction_coefficient=friction_coefficient, force=tangential_force,
                                     displacement=tangential_displacement, reference=reference,

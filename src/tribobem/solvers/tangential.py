@@ -130,16 +130,33 @@ class TangentialOperator:
         be = self.be
         F = {c: be.rfft2(f, s=self.fft_shape) for c, f in zip(ins, fields) if f is not None}
         res = []
+        xp = self.xp
         for o in outs:
             acc = None
             for c, T in F.items():
                 spec = self.spec.get(o + c)
                 if spec is None:
                     continue
-                term = T * spec
-                acc = term if acc is None else acc + term
+                # Products accumulated in two reused spectral buffers: a fresh multi-MB array
+                # per product costs page faults (glibc returns large blocks to the OS on free)
+                # comparable to the FFTs themselves.
+                if acc is None:
+                    acc = self._work(0, T.shape, T.dtype)
+                    xp.multiply(T, spec, out=acc)
+                else:
+                    tmp = self._work(1, T.shape, T.dtype)
+                    xp.multiply(T, spec, out=tmp)
+                    acc += tmp
             res.append(None if acc is None else self._crop(be.irfft2(acc, s=self.fft_shape)))
         return res
+
+    def _work(self, i: int, shape, dtype):
+        """Reused spectral work array number ``i`` (its content is overwritten by the caller)."""
+        bufs = self.__dict__.setdefault("_bufs", {})
+        b = bufs.get(i)
+        if b is None or b.shape != shape or b.dtype != dtype:
+            b = bufs[i] = self.xp.empty(shape, dtype=dtype)
+        return b
 
     def shear_displacement(self, qx, qy):
         """In-plane relative displacement (u_x, u_y) in m from the shear (q_x, q_y) in Pa."""
