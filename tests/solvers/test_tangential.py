@@ -577,3 +577,60 @@ def test_ramp_input_errors(ramp_problem):
     with pytest.raises(InputError) as err:
         normal_path(op, gap, normal_forces=[F0, F0], tangential_forces=[0.0], friction_coefficient=MU_D)
     assert err.value.field == "friction.tangential_forces"
+
+
+# --------------------------------------------------------------------------------------
+# Coupled steps: predictor, reused slip scale, partial fields (speed work, issues 6 and 7)
+# --------------------------------------------------------------------------------------
+
+def test_partial_fields_and_given_slip_scale_change_nothing_but_the_fields(paper_d):
+    d = paper_d[False]
+    z = d["zero"]
+    kw = dict(friction_coefficient=MU_D, force=(0.4 * MU_D * z.normal.repulsive_force, 0.0), tol=1e-9)
+    full = solve_tangential(d["op"], z.normal.pressure, z.normal.contact, **kw)
+    part = solve_tangential(d["op"], z.normal.pressure, z.normal.contact, full_fields=False,
+                            slip_scale=full.info["slip_scale"], **kw)
+    assert full.converged and part.converged
+    np.testing.assert_array_equal(part.shear, full.shear)
+    np.testing.assert_array_equal(part.stick, full.stick)
+    assert part.displacement_x == full.displacement_x
+    assert np.isnan(part.slip).all() and np.isnan(part.relative_displacement).all()
+    assert np.isfinite(full.slip).all()
+
+
+@pytest.mark.parametrize("extrapolate", [False, True])
+def test_predictor_step_matches_the_plain_loop_and_a_tight_reference(paper_d, monkeypatch, extrapolate):
+    """Incremental steps of a force ramp: the predictor (tangential solve at the predicted
+    pressure first) changes the path to the fixed point, not the fixed point: pressure and
+    rigid shift agree with the plain alternation and with a loop converged far tighter, in no
+    more passes."""
+    from tribobem.solvers import coupling as C
+
+    d = paper_d[False]
+    z = d["zero"]
+    F = MU_D * z.normal.repulsive_force
+    loads = (0.2 * F, 0.3 * F, 0.4 * F)
+
+    def ramp(predictor, **tols):
+        monkeypatch.setattr(C, "PREDICTOR", predictor)
+        prev, older, out = z, None, []
+        for k, f in enumerate(loads):
+            extra = (older, 1.0) if (extrapolate and older is not None) else None
+            r = solve_coupled(d["op"], d["gap"], friction_coefficient=MU_D, normal_force=d["F0"],
+                              tangential_force=(f, 0.0), initial=prev, extrapolate=extra,
+                              reference=prev.tangential.relative_displacement, **tols)
+            assert r.converged, r.message
+            out.append(r)
+            older, prev = prev, r
+        return out
+
+    pred, plain = ramp(True), ramp(False)
+    ref = ramp(False, coupling_tol=1e-12, tangential_tol=1e-11, tol=1e-12)
+    for a, b, c in zip(pred, plain, ref):
+        scale = np.abs(c.normal.pressure).sum()
+        assert np.abs(a.normal.pressure - c.normal.pressure).sum() / scale < 1e-6
+        assert np.abs(b.normal.pressure - c.normal.pressure).sum() / scale < 1e-6
+        assert a.tangential.displacement_x == pytest.approx(c.tangential.displacement_x, rel=1e-5)
+        assert np.array_equal(a.tangential.stick, c.tangential.stick)
+        assert np.isfinite(a.tangential.relative_displacement).all()  # the final pass builds the fields
+    assert sum(r.coupling_iterations for r in pred) <= sum(r.coupling_iterations for r in plain)
