@@ -7,8 +7,9 @@ the coupling lowers F0+ by ~1 % along the loading), ``--cycles``
 cycles of ``--steps`` steps (target configuration: 256^2, 3 cycles, 80 steps: 260 steps).
 
 Prints the wall and CPU time, coupled steps, tangential iterations per step (all coupling passes),
-coupling passes per step, the share of the time spent in the FFTs (the backend's rfft2/irfft2,
-timed by wrapping them), and the peak resident memory of the process.  Not a test: nothing here
+coupling passes per step, the share of the wall time spent in the FFTs (the backend's
+rfft2/irfft2, timed by wrapping them), FFT pairs (one forward + one inverse) per step, and the
+peak resident memory of the process.  Set TRIBOBEM_FFT_WORKERS=1 for comparable timings.  Not a test: nothing here
 is asserted; run it with ``python benchmarks/hysteresis.py [--n 256 --cycles 3 --steps 80]``.
 ``--quick`` runs 96^2, 1 cycle, 16 steps (about a minute).
 """
@@ -106,6 +107,7 @@ def main(argv=None) -> dict:
         "normal_iterations_per_step": counts["normal_iterations"] / n_steps,
         "coupling_passes_per_step": float(np.mean([s.coupling_iterations for s in run.steps])),
         "fft_share": counts["fft_time"] / wall, "ffts": counts["ffts"],
+        "fft_pairs_per_step": counts["ffts"] / 2.0 / n_steps,
         "peak_rss_MiB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
         "repulsive_force_uN": run.start.normal.repulsive_force * 1e6,
         "tolerances": {"normal": args.tol, "tangential": args.tangential_tol, "coupling": args.coupling_tol},
