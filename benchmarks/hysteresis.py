@@ -26,6 +26,22 @@ import warnings
 import numpy as np
 
 
+def keep_freed_memory(limit: int = 256 * 1024 * 1024) -> bool:
+    """Raise glibc's mmap and trim thresholds to ``limit`` bytes (Linux/glibc only; False
+    elsewhere).  By default a freed multi-MB array goes back to the OS, and the next one costs a
+    page fault per 4 KiB page: measured on the padded 512^2 tangential convolution, 11.7 ms of
+    CPU with the default and 5.1 ms with this setting (4 FFTs: ~4.3 ms)."""
+    import ctypes
+    import ctypes.util
+
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+        M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3
+        return bool(libc.mallopt(M_TRIM_THRESHOLD, limit)) and bool(libc.mallopt(M_MMAP_THRESHOLD, limit))
+    except (OSError, AttributeError):
+        return False
+
+
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=256)
@@ -38,8 +54,13 @@ def main(argv=None) -> dict:
     ap.add_argument("--tangential-tol", type=float, default=1e-7)
     ap.add_argument("--coupling-tol", type=float, default=1e-6)
     ap.add_argument("--no-extrapolate", action="store_true", help="warm start from the last step only")
+    ap.add_argument("--keep-freed-memory", action="store_true",
+                    help="glibc mallopt: keep freed blocks below 256 MiB in the heap (no page faults on the "
+                         "multi-MB FFT arrays); measures what a backend-level setting would give")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
+    if args.keep_freed_memory:
+        keep_freed_memory()
     if args.quick:
         args.n, args.cycles, args.steps = 96, 1, 16
 
@@ -110,6 +131,7 @@ def main(argv=None) -> dict:
         "fft_pairs_per_step": counts["ffts"] / 2.0 / n_steps,
         "peak_rss_MiB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
         "repulsive_force_uN": run.start.normal.repulsive_force * 1e6,
+        "keep_freed_memory": args.keep_freed_memory,
         "tolerances": {"normal": args.tol, "tangential": args.tangential_tol, "coupling": args.coupling_tol},
         "loop_energy_J": loop_energies(F, D, cyc), "failed_steps": run.failed,
     }
