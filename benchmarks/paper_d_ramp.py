@@ -18,6 +18,7 @@ import json
 import sys
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -28,8 +29,15 @@ def main(argv=None) -> dict:
     ap.add_argument("--steps", type=int, default=40)
     ap.add_argument("--mu-t", type=float, default=0.0, help="Tabor parameter of the Dugdale adhesion (0: none)")
     ap.add_argument("--no-extrapolate", action="store_true", help="warm start from the last step only")
+    ap.add_argument("--keep-freed-memory", action="store_true",
+                    help="glibc mallopt, as in benchmarks/hysteresis.py (measures the page-fault cost)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
+    if args.keep_freed_memory:
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from hysteresis import keep_freed_memory
+
+        keep_freed_memory()
 
     import tribobem as tb
     from tribobem.analytic.hertz import hertz
@@ -91,7 +99,7 @@ def main(argv=None) -> dict:
         "coupling_passes_per_state": float(np.mean(passes)) if passes else float("nan"),
         "tangential_iterations_per_state": counts["tangential_iterations"] / n,
         "normal_iterations_per_state": counts["normal_iterations"] / n,
-        "onset_ratio": ramp.onset_ratio, "tolerances": {"tangential": TANGENTIAL_TOLERANCE, "coupling": COUPLING_TOLERANCE},
+        "onset_ratio": ramp.onset_ratio, "keep_freed_memory": args.keep_freed_memory, "tolerances": {"tangential": TANGENTIAL_TOLERANCE, "coupling": COUPLING_TOLERANCE},
     }
     if args.json:
         print(json.dumps(out, indent=2))
