@@ -4,8 +4,9 @@
 from .capillary import CapillaryResult, solve_capillary
 from .coupling import solve_coupled
 from .normal import solve_normal
+from .normal_cg import solve_normal_cg
 from .slip_paths import SlipRamp, normal_path, tangential_ramp
 from .tangential import GrossSlipError, solve_tangential
 
-__all__ = ["solve_normal", "solve_tangential", "solve_coupled", "tangential_ramp", "normal_path", "SlipRamp",
-           "GrossSlipError", "solve_capillary", "CapillaryResult"]
+__all__ = ["solve_normal", "solve_normal_cg", "solve_tangential", "solve_coupled", "tangential_ramp", "normal_path",
+           "SlipRamp", "GrossSlipError", "solve_capillary", "CapillaryResult"]
