@@ -255,3 +255,25 @@ def test_beyond_pull_off_reports():
         res = solve_normal_cg(prob.operator, prob.gap, force=3.0 * prob.F_pull_off, interaction=prob.adhesion,
                               tol=1e-10)
     assert not res.converged
+
+
+def test_solve_normal_method_selects_normcg():
+    """solve_normal(method="normcg") is solve_normal_cg; an unknown method is an InputError."""
+    from tribobem.elasticity import free_boundary_operator
+    from tribobem.errors import InputError
+    from tribobem.geometry.shapes import sphere
+    from tribobem.grid import Grid
+    from tribobem.materials import ContactPair, Material
+    from tribobem.solvers.normal import solve_normal
+    from tribobem.solvers.normal_cg import solve_normal_cg
+
+    grid = Grid.square(64, 0.25e-6)
+    op = free_boundary_operator(grid, ContactPair(Material(130e9, 0.28, "Si"), Material.rigid()))
+    h = sphere(grid, 10e-6)
+    a = solve_normal(op, h, force=2e-6, method="normcg")
+    b = solve_normal_cg(op, h, force=2e-6)
+    assert a.iterations == b.iterations and np.array_equal(a.pressure, b.pressure)
+    pk = solve_normal(op, h, force=2e-6)
+    assert np.array_equal(a.contact, pk.contact)
+    with pytest.raises(InputError, match="method"):
+        solve_normal(op, h, force=2e-6, method="newton")
