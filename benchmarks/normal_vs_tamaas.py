@@ -37,6 +37,7 @@ TAMAAS_TOL = 1e-10
 TRIBOBEM_TOLS = (1e-10, 1e-11, 1e-12, 1e-13, 1e-14)
 AREA_RTOL = 1e-6
 MAX_ITERATIONS = 10000
+METHOD = "polonsky_keer"  # --method: solve_normal's method (polonsky_keer | normcg)
 
 
 def run_tamaas(s: np.ndarray, n: int) -> tuple[float, float, dict]:
@@ -62,7 +63,7 @@ def run_tribobem(op, h: np.ndarray, tol: float) -> tuple[float, float, dict]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         wall, cpu, res = timed(solve_normal, op, h, force=MEAN_PRESSURE * L * L, tol=tol,
-                               max_iterations=MAX_ITERATIONS)
+                               max_iterations=MAX_ITERATIONS, method=METHOD)
     return wall, cpu, {
         "iterations": res.iterations,
         "converged": res.converged,
@@ -133,7 +134,11 @@ def bench_size(n: int, args, use_tamaas: bool) -> dict:
 def main(argv=None) -> int:
     parser = common.base_parser(__doc__.splitlines()[0], [256, 512, 1024, 2048])
     parser.add_argument("--json", help="write the measured numbers to this file")
+    parser.add_argument("--method", default="polonsky_keer", choices=["polonsky_keer", "normcg"],
+                        help="tribobem's normal solver (solve_normal method)")
     args = parser.parse_args(argv)
+    global METHOD
+    METHOD = args.method
     if args.quick:
         args.sizes = [n for n in args.sizes if n <= 512] or [256]
         args.repeats = 1
@@ -146,7 +151,7 @@ def main(argv=None) -> int:
     print(common.environment())
     print(f"Problem: H = {common.HURST}, q0 = q1 = {common.Q0}, q2 = n/4, spectral rms slope "
           f"{common.RMS_SLOPE}, E = {common.E}, nu = {common.NU}, mean pressure 0.01 E*; "
-          f"Tamaas tol {TAMAAS_TOL:g}; repeats {args.repeats} (min reported)\n", flush=True)
+          f"Tamaas tol {TAMAAS_TOL:g}; tribobem method {METHOD}; repeats {args.repeats} (min reported)\n", flush=True)
 
     results = []
     for n in args.sizes:
