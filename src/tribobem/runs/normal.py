@@ -26,7 +26,7 @@ def run(pb, bar) -> dict:
     from ..solvers.paths import approach_curve, force_curve
 
     sc, load = pb.scenario, pb.scenario.load
-    kw = solve_kw(sc)
+    kw = dict(solve_kw(sc), method=sc.solver.method)
     inter = pb.interaction
     out: dict = {"run": {}}
     if load.force is not None or load.approach is not None:

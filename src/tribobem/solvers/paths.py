@@ -191,6 +191,7 @@ def approach_curve(
     max_iterations: int = 10000,
     keep_fields: bool = False,
     progress: Callable[[int, int], None] | None = None,
+    method: str = "polonsky_keer",
 ) -> LoadCurve:
     """Force-approach curve under displacement control.
 
@@ -211,6 +212,8 @@ def approach_curve(
         Keep every :class:`NormalResult` (memory: ~6 fields per point).
     progress : callable, optional
         Called as ``progress(done, total)`` after each point.
+    method : {"polonsky_keer", "normcg"}
+        The normal solver (:func:`~tribobem.solvers.normal.solve_normal`).
 
     Returns
     -------
@@ -227,7 +230,7 @@ def approach_curve(
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
             res = solve_normal(operator, gap, approach=float(d), interaction=interaction, tol=tol,
-                               max_iterations=max_iterations, initial_pressure=prev)
+                               max_iterations=max_iterations, initial_pressure=prev, method=method)
         if not res.converged:
             warnings.warn(f"{branch} point at approach {d:.4g} m: {res.message}", ConvergenceWarning, stacklevel=2)
         _record(rows, res, branch, keep_fields, store)
@@ -248,12 +251,14 @@ def force_curve(
     max_iterations: int = 10000,
     keep_fields: bool = False,
     progress: Callable[[int, int], None] | None = None,
+    method: str = "polonsky_keer",
 ) -> LoadCurve:
     """Force-approach curve under force control.
 
     The loading branch runs through ``forces`` in order, the unloading branch back in
     reverse.  Where no equilibrium exists (beyond pull-off) the point is recorded as not
-    converged, a jump-off is reported at the previous point, and the branch stops.
+    converged, a jump-off is reported at the previous point, and the branch stops.  Other
+    parameters as for :func:`approach_curve`.
     """
     forces = np.asarray(forces, dtype=float)
     if forces.ndim != 1 or len(forces) < 1 or not np.all(np.isfinite(forces)):
@@ -270,7 +275,7 @@ def force_curve(
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
             res = solve_normal(operator, gap, force=float(f), interaction=interaction, tol=tol,
-                               max_iterations=max_iterations, initial_pressure=prev)
+                               max_iterations=max_iterations, initial_pressure=prev, method=method)
         if not res.converged:
             # No equilibrium at this force: the contact jumps off (force control).
             if rows:
