@@ -99,9 +99,10 @@ class LineProfiler:
         return markdown_table(["line", "function", "hits", "ms / iteration", "% of solve", "source"], rows), total
 
     def apply_calls(self) -> int:
-        """Number of convolutions performed (hits of the kernel-multiply line)."""
+        """Number of convolutions performed (hits of the kernel-multiply lines: op.apply in
+        operators.py and the solver's convolve in columns.py)."""
         return sum(h for (fn, func, line), (h, sec) in self.stats.items()
-                   if os.path.basename(fn) == "operators.py" and "*= spec" in linecache.getline(fn, line))
+                   if os.path.basename(fn) in ("operators.py", "columns.py") and "*= spec" in linecache.getline(fn, line))
 
     def grouped(self) -> dict:
         """Seconds per coarse category (by source text of the line)."""
@@ -109,13 +110,23 @@ class LineProfiler:
         for (fn, func, line), (hits, sec) in self.stats.items():
             src = linecache.getline(fn, line)
             base = os.path.basename(fn)
-            if base == "backend.py" and "rfft2(" in src and "irfft2" not in src:
+            if base == "columns.py" and func in ("add", "_add_periodic"):
+                cats["sparse kernel columns (real space)"] += sec
+            elif base == "columns.py" and "rfft2(" in src:
+                cats["rfft2"] += sec
+            elif base == "columns.py" and "fft.ifft(" in src:
+                cats["inverse FFT along x (in place)"] += sec
+            elif base == "columns.py" and "fft.irfft(" in src:
+                cats["inverse real FFT along y"] += sec
+            elif base == "columns.py" and "*= spec" in src:
+                cats["kernel multiply"] += sec
+            elif base == "backend.py" and "rfft2(" in src and "irfft2" not in src:
                 cats["rfft2"] += sec
             elif base == "backend.py" and "irfft2(" in src:
                 cats["irfft2"] += sec
             elif base == "operators.py" and "*= spec" in src:
                 cats["kernel multiply"] += sec
-            elif base in ("operators.py", "backend.py"):
+            elif base in ("operators.py", "backend.py", "columns.py"):
                 cats["operator overhead (python, slicing)"] += sec
             else:
                 cats["solver (everything else)"] += sec
@@ -179,12 +190,13 @@ class MemoryPeakTracer(LineProfiler):
 
 def traced_files():
     import tribobem.elasticity.backend as be
+    import tribobem.elasticity.columns as cols
     import tribobem.elasticity.operators as ops
     import tribobem.interactions.base as ib
     import tribobem.interactions.dugdale as dg
     import tribobem.solvers.normal as nm
 
-    return [nm.__file__, ops.__file__, be.__file__, dg.__file__, ib.__file__]
+    return [nm.__file__, ops.__file__, be.__file__, cols.__file__, dg.__file__, ib.__file__]
 
 
 def problem_kwargs(problem: str, s: np.ndarray) -> dict:
@@ -332,13 +344,20 @@ def main(argv=None) -> int:
         print("One NumPy pass over the grid: " + ", ".join(f"{k} {1e3 * v:.2f} ms" for k, v in ew.items()) + "\n")
         g = r["grouped"]
         tot = sum(g.values())
-        conv = sum(v for k, v in g.items() if k != "solver (everything else)")
+        conv = sum(v for k, v in g.items() if k not in ("solver (everything else)", "sparse kernel columns (real space)"))
         if r["applies"]:
             t_conv = conv / r["applies"]
             r["t_apply_in_situ"] = t_conv
             print(f"In the traced solve: {r['applies']} convolutions ({r['applies'] / r['iterations']:.2f} per iteration), "
                   f"{1e3 * t_conv:.2f} ms each; traced time per iteration / (2 x that) = "
-                  f"{tot / r['iterations'] / (2 * t_conv):.2f}; convolutions take {100 * conv / tot:.0f} % of the solve\n")
+                  f"{tot / r['iterations'] / (2 * t_conv):.2f}; time per iteration / one such convolution = "
+                  f"{tot / r['iterations'] / t_conv:.2f}; convolutions take {100 * conv / tot:.0f} % of the solve\n")
+        try:
+            from tribobem.solvers import normal as _nm
+
+            print(f"Solver counters (last solve): {_nm._last_stats}\n")
+        except AttributeError:
+            pass
         print(f"Line profile (one traced solve: {r['t_traced']:.3f} s wall, {r['traced_total']:.3f} s charged "
               "to lines; tracer overhead excluded from the charges):\n")
         print(markdown_table(["category", "ms / iteration", "% of solve"],
@@ -366,11 +385,12 @@ def main(argv=None) -> int:
         tc = r.get("t_apply_in_situ", math.nan)
         tot = sum(r["grouped"].values())
         rows.append([r["n"], r["iterations"], r["applies"] / r["iterations"], r["t_solve"], 1e3 * t_it,
-                     1e3 * r["t_apply"], t_it / (2 * r["t_apply"]), tot / r["iterations"] / (2 * tc),
+                     1e3 * r["t_apply"], t_it / (2 * r["t_apply"]), t_it / r["t_apply"], tot / r["iterations"] / tc,
                      r["traced_peak"] / 2**20, r["traced_peak"] / (8 * r["n"] ** 2),
                      m["rss_delta_mib"] if m else math.nan])
     print(markdown_table(["n", "iterations", "convolutions / iteration", "solve s", "ms / iteration", "apply ms",
-                          "t_iter / (2 t_apply)", "same, in the traced solve", "NumPy peak MiB", "(grid arrays)",
+                          "t_iter / (2 t_apply)", "t_iter / t_apply", "t_iter / one convolution, in the traced solve",
+                          "NumPy peak MiB", "(grid arrays)",
                           "peak RSS increase MiB"], rows))
     return 0
 

@@ -51,10 +51,20 @@ import warnings
 
 import numpy as np
 
+from ..elasticity.columns import KernelColumns, convolve
 from ..elasticity.operators import ConvolutionOperator
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..interactions.base import NoInteraction
 from ..results import NormalResult
+
+
+#: Largest number of nodes whose pressure may change outside the CG step (leavers, entering
+#: overlaps, changed outside stresses) for the displacement to be corrected with columns of
+#: K in real space rather than recomputed with a convolution (see _CGState).
+_SPARSE_MAX_NODES = 10
+
+#: Counters of the last Polonsky-Keer solve (benchmarks/profile_iteration.py reads them).
+_last_stats: dict = {}
 
 
 def _self_compliance(op: ConvolutionOperator) -> float:
@@ -170,22 +180,22 @@ def solve_normal(
         if floor == 0.0 and force <= 0.0:
             raise InputError("load.force", f"must be > 0 N without adhesion, got {force!r}")
         target = force / cell  # target sum of p
-        h_eff = h
+        shift = 0.0
     else:
         target = None
         if not math.isfinite(approach):
             raise InputError("load.approach", f"must be finite, got {approach!r}")
-        h_eff = h - approach
+        shift = float(approach)  # the solver works on h - approach without storing it
 
-    # Step 1: initial pressure.
+    # Step 1: initial pressure (one array, owned by the solver state).
     if isinstance(initial_pressure, NormalResult):
         initial_contact = initial_pressure.contact if initial_contact is None else initial_contact
         initial_pressure = initial_pressure.pressure
     if initial_pressure is not None:
-        p = xp.array(initial_pressure, dtype=float)
+        p = xp.array(initial_pressure, dtype=float, order="C")
         if p.shape != grid.shape:
             raise InputError("initial_pressure", f"shape {tuple(p.shape)} does not match the grid {grid.shape}")
-        p = xp.maximum(p, floor)
+        xp.maximum(p, floor, out=p)
     elif force_control:
         p = xp.full(grid.shape, target / h.size)
     else:
@@ -197,7 +207,8 @@ def solve_normal(
     else:
         contact = xp.zeros(grid.shape, dtype=bool)
 
-    state = _CGState(op, inter, floor, h_eff, p, contact, force_control, target, refresh)
+    state = _CGState(op, inter, floor, h, shift, p, contact, force_control, target, refresh)
+    del p, contact
     history: list[float] = []
     converged = False
     message = ""
@@ -226,16 +237,22 @@ def solve_normal(
         message = f"not converged after {max_iterations} iterations (residual {history[-1]:.3e}, tolerance {tol:.1e})"
     p, contact = state.full_pressure(), state.cmask
     delta = state.delta if force_control else float(approach)
+    global _last_stats
+    _last_stats = state.stats()
 
-    # Final fields, consistent with the returned pressure.
-    u = op.apply(p)
+    # Final fields, consistent with the returned pressure (the solver's displacement when it
+    # is exact for this pressure, else one more convolution).
+    u = state.u.reshape(grid.shape) if state.u_exact else convolve(op, p)
+    del state
     g = u + h
     n_c = int(xp.count_nonzero(contact))
     if force_control:
         delta = float(xp.sum(xp.where(contact, g, 0.0))) / n_c if n_c else float("nan")
-    g = g - delta if n_c or not force_control else g - float(xp.min(g))
-    gap_field = xp.where(contact, 0.0, xp.maximum(g, 0.0))
-    penetration = float(-xp.min(xp.where(contact, 0.0, g))) if n_c < g.size else 0.0
+    g -= delta if n_c or not force_control else float(xp.min(g))
+    gap_field = xp.where(contact, 0.0, g)
+    penetration = float(-xp.min(gap_field)) if n_c < g.size else 0.0
+    del g
+    xp.maximum(gap_field, 0.0, out=gap_field)
     adhesive = (~contact) & (p < 0)
     be = op.backend
     total = float(xp.sum(p)) * cell
@@ -273,34 +290,46 @@ class _CGState:
 
     ``p`` is the full (flat) pressure, ``idx`` the flat indices of the contact nodes, and
     ``t_c`` the search direction on them.  Work arrays are preallocated and updated in
-    place: at 1024^2 a fresh array costs as much as a pass over it.
+    place: at 1024^2 a fresh array costs as much as a pass over it.  Full-grid arrays held:
+    p, u and g (the gap; also the FFT input t and the scratch array), and during an
+    iteration r = K t; plus, with an outside stress, s0 and (force control) W.
+
+    The displacement u = K p is updated incrementally, u <- s (u - tau K t) + (1 - s) W,
+    while no node changes status.  When a few nodes do (leavers set to their outside
+    stress, overlapping nodes entering, outside stresses changing), the pressure differs
+    from the incremental one on those nodes only, and their columns of K are added in real
+    space (elasticity/columns.py) instead of recomputing K p with a convolution, as long as
+    there are at most ``sparse_max`` of them and the force balance does not need W (no
+    outside stress, or no rescale).  The exact recomputation every ``refresh`` iterations
+    and before convergence is declared is kept.
     """
 
-    def __init__(self, op, inter, floor, h_eff, p, contact, force_control, target, refresh):
+    def __init__(self, op, inter, floor, h, shift, p, contact, force_control, target, refresh):
         xp = op.xp
         self.op, self.xp, self.inter, self.floor = op, xp, inter, floor
-        self.h = h_eff.ravel()
+        self.h = h.ravel()
         self.force_control, self.target, self.refresh = force_control, target, refresh
         self.has_outside = not isinstance(inter, NoInteraction)
-        self.shape = h_eff.shape
-        self.size = h_eff.size
+        self.shape = h.shape
+        self.size = h.size
         self.tau0 = 1.0 / _self_compliance(op)
         self.tau = self.tau0
-        self.delta = 0.0
+        # Force control: the mean of h + u on the contact (updated every iteration).
+        # Displacement control: the approach; the gap is (h - approach) + u.
+        self.delta = 0.0 if force_control else shift
+        self.shift = shift
         self.error = float("inf")
         self.conjugate = False
         self.G_old = 1.0
-        # Scale of the gap residual: the range of the initial gap (m).
-        self.h_scale = max(float(h_eff.max() - h_eff.min()), 1e-300)
+        # Scale of the gap residual: the range of the initial gap h - shift (m).
+        self.h_scale = max(float(h.max() - shift) - float(h.min() - shift), 1e-300)
         self.gap_residual = float("inf")
-        self.p = xp.array(p, dtype=float).ravel()
+        self.p = xp.ascontiguousarray(p, dtype=float).ravel()
         self.cflat = xp.array(contact, dtype=bool).ravel()
         self.idx = xp.flatnonzero(self.cflat)
         self.t_c = xp.zeros(len(self.idx))
-        self.t_full = xp.zeros(self.size)
         self.g = xp.empty(self.size)
-        self.work = xp.empty(self.size)
-        self.p_old = xp.empty(self.size)
+        self.ovmask = xp.empty(self.size, dtype=bool)
         self.W = None  # K(p_out + floor 1_C), valid while no node changes status
         # Stress of a node that just left the contact (its gap is ~0), per node: a law may
         # depend on the position (e.g. meniscus islands).
@@ -311,7 +340,19 @@ class _CGState:
         self.branch = None
         self.out_error = 0.0  # relative mismatch of deferred smooth outside stresses
         self.defer_ratio = 10.0  # apply once the CG change is within 10x the outside mismatch (measured best of 0.3-30)
+        # W = 0: no outside stress, floor 0 and no pressure outside the contact (a warm start
+        # may bring some); then a rescale needs no W and status changes can be sparse.
+        self.w_zero = (not self.has_outside and floor == 0.0
+                       and int(xp.count_nonzero(self.p)) == int(xp.count_nonzero(self.p[self.idx])))
+        self.sparse_max = _SPARSE_MAX_NODES
+        self.columns = None
+        # Counters (benchmarks): convolutions for K t, exact K p, W; sparse updates and their columns.
+        self.n_kt = self.n_exact = self.n_w = self.n_sparse = self.n_columns = 0
         self.make_exact()
+
+    def stats(self) -> dict:
+        return {"kt": self.n_kt, "exact": self.n_exact, "w": self.n_w, "sparse_updates": self.n_sparse,
+                "sparse_columns": self.n_columns}
 
     @property
     def cmask(self):
@@ -321,18 +362,21 @@ class _CGState:
         return self.p.reshape(self.shape)
 
     def make_exact(self):
-        self.u = self.op.apply(self.p.reshape(self.shape)).ravel()
+        self.u = None  # free the old displacement before the convolution allocates the new one
+        self.u = convolve(self.op, self.p.reshape(self.shape)).ravel()
+        self.n_exact += 1
         self.u_exact = True
         self.since_exact = 0
 
     def _W(self):
         """K applied to the pressure the force balance does not scale (cached)."""
         if self.W is None:
-            if not self.has_outside and self.floor == 0.0:
+            if self.w_zero or (not self.has_outside and self.floor == 0.0):
                 self.W = 0.0
             else:
                 w = self.xp.where(self.cflat, self.floor, self.p)
-                self.W = self.op.apply(w.reshape(self.shape)).ravel()
+                self.W = convolve(self.op, w.reshape(self.shape)).ravel()
+                self.n_w += 1
         return self.W
 
     def iterate(self):
@@ -346,10 +390,12 @@ class _CGState:
 
         # Step 2: gap on the contact nodes; under force control the approach is the mean
         # of h + u there (Polonsky-Keer), so the contact gap has zero mean.
-        g_c = self.u[idx] + self.h[idx]
         if self.force_control:
+            g_c = self.u[idx] + self.h[idx]
             self.delta = float(g_c.mean())
             g_c -= self.delta
+        else:
+            g_c = self.u[idx] + (self.h[idx] - self.shift)
 
         # Step 3: conjugate direction.
         G = _dot(g_c, g_c)
@@ -365,13 +411,16 @@ class _CGState:
         # load) gives no usable step: tau would be a ratio of round-off; only the force
         # balance below acts.
         if n_c > 0 and G > (1e-13 * self.h_scale) ** 2 * n_c:
-            self.t_full.fill(0.0)
-            self.t_full[idx] = t_c
-            r = op.apply(self.t_full.reshape(self.shape)).ravel()
+            t_full = self.g  # free until step 5
+            t_full.fill(0.0)
+            t_full[idx] = t_c
+            r = convolve(op, t_full.reshape(self.shape)).ravel()
+            self.n_kt += 1
             r_c = r[idx]
             rt = _dot(r_c, t_c)
             if self.force_control:
                 rt -= float(r_c.mean()) * float(t_c.sum())
+            del r_c
             self.tau = _dot(g_c, t_c) / rt if rt > 0 else self.tau0
         elif n_c > 0:
             self.tau = 0.0
@@ -381,14 +430,29 @@ class _CGState:
 
         # Step 5: update on the contact; every node's status from the full gap.
         p_c_old = p[idx]
-        p_c_new = p_c_old - tau * t_c
+        p_c_new = t_c * -tau  # p_c_old - tau t_c with one temporary
+        p_c_new += p_c_old
         stays = p_c_new > floor
+        all_stay = bool(stays.all())
         g = self.g
-        xp.add(self.u, self.h, out=g)
+        # g = h + u (- delta); overlapping = non-contact nodes with a negative gap.
         if self.force_control:
-            g -= self.delta
-        g[idx] = 0.0
-        overlap = g < 0  # non-contact nodes that penetrate (contact nodes have g = 0 here)
+            xp.add(self.u, self.h, out=g)
+            level = self.delta
+        else:
+            xp.subtract(self.h, self.shift, out=g)
+            g += self.u
+            level = 0.0
+        overlap = self.ovmask
+        if self.has_outside:
+            if level != 0.0:
+                g -= level
+                level = 0.0
+            g[idx] = 0.0
+            xp.less(g, 0.0, out=overlap)  # contact nodes have g = 0 here
+        else:
+            xp.less(g, level, out=overlap)  # g - level < 0
+            overlap[idx] = False
         any_overlap = bool(overlap.any())
         self.conjugate = not any_overlap
         if self.has_outside:
@@ -402,7 +466,7 @@ class _CGState:
         # making progress, and applied (with a restart: the load changed) once the CG has
         # converged to the level of the outside mismatch: applying it at every iteration
         # restarts the CG every iteration (steepest descent), and applying it while keeping
-        # the conjugate directions stalls them.  Convergence requires the mismatch to vanish.
+        # the conjugate directions stalled them.  Convergence requires the mismatch to vanish.
         smooth = False
         self.out_error = 0.0
         if self.branch_fn is not None:
@@ -411,42 +475,64 @@ class _CGState:
                 smooth = not bool(xp.any((branch != self.branch) & ~self.cflat))
             self.branch = branch
         defer = False
-        if smooth and not any_overlap and bool(stays.all()):
-            work = self.work
+        if smooth and not any_overlap and all_stay:
+            work = g  # the gap is not needed any more (no overlap)
             xp.subtract(out_new, p, out=work)
             xp.abs(work, out=work)
             norm = float(xp.abs(p).sum())
             self.out_error = float(work.sum()) / norm if norm > 0 else float(work.sum())
             defer = self.error > self.defer_ratio * self.out_error
-        changed = any_overlap or (out_changed and not defer) or not bool(stays.all())
+        changed = any_overlap or (out_changed and not defer) or not all_stay
         if changed:
             self.out_error = 0.0  # the rebuild below applies every outside stress
 
+        sparse = None
         if not changed:
             p[idx] = p_c_new
             diff = float(xp.abs(tau * t_c).sum()) if not self.force_control else None
         else:
             # Rebuild the sets: leavers take the outside stress of their gap, overlapping
-            # nodes enter with p = s(g) - tau g (Paper A Eq. 21).
-            self.p_old[...] = p
+            # nodes enter with p = s(g) - tau g (Paper A Eq. 21).  Only these nodes, the
+            # contact and the non-contact nodes whose outside stress changed get a new
+            # pressure: ``moved`` lists the non-contact ones, with their old pressure.
+            old_idx = idx
+            if any_overlap:
+                ov = xp.flatnonzero(overlap)
+                g_ov = g[ov] - level if level != 0.0 else g[ov]
             if out_new is not None:
-                p[...] = out_new
+                out_moved = out_new != p
+                if any_overlap:
+                    out_moved |= overlap
+                moved_nodes = xp.flatnonzero(out_moved)
+                del out_moved
             else:
-                p[idx] = 0.0
+                moved_nodes = ov if any_overlap else idx[:0]
+            p_moved_old = p[moved_nodes]
+            if out_new is not None:
+                p[moved_nodes] = out_new[moved_nodes]  # elsewhere out_new equals p already
+            del out_new
             p[idx] = xp.where(stays, p_c_new, self.s0[idx] if self.has_outside else self.s0)
             cm = self.cflat
             cm[idx] = stays
             if any_overlap:
-                ov = xp.flatnonzero(overlap)
-                p[ov] -= tau * g[ov]
+                p[ov] -= tau * g_ov
                 cm[ov] = True
-            # Keep the search direction of the nodes that stay, for the next conjugate step.
-            self.t_full.fill(0.0)
-            self.t_full[idx] = t_c
+            # The pressure now differs from the incremental one p - tau t on the leavers and
+            # the moved nodes only (before the force balance).
+            n_sparse = int(len(idx) - xp.count_nonzero(stays)) + len(moved_nodes)
+            if n_sparse <= self.sparse_max:
+                leavers = idx[~stays]
+                sparse = (xp.concatenate((leavers, moved_nodes)),
+                          xp.concatenate((p[leavers] - p_c_new[~stays], p[moved_nodes] - p_moved_old)))
+            else:
+                r = None  # an exact recomputation follows: free K t now
+            # Keep the search direction of the nodes that stay (0 on the entering ones), for
+            # the next conjugate step; g is free now and serves as the scatter buffer.
             self.idx = idx = xp.flatnonzero(cm)
-            t_c = self.t_full[idx]
+            g[idx] = 0.0
+            g[old_idx] = t_c
+            t_c = g[idx]
             self.W = None
-            diff = None
             self.conjugate = False  # the problem changed: restart from steepest descent
         self.t_c = t_c
 
@@ -455,6 +541,7 @@ class _CGState:
         if self.force_control:
             n_new = len(idx)
             if n_new == 0:
+                self.u_exact = False
                 return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
             p_c = p[idx]
             total = float(p.sum()) if self.has_outside else float(p_c.sum())
@@ -462,6 +549,7 @@ class _CGState:
             fixed = total - float(p_c.sum())
             scale = (self.target - fixed - floor * n_new) / free if free > 0 else -1.0
             if scale <= 0:
+                self.u_exact = False
                 return ("the contact cannot carry the requested force: the load is beyond "
                         "pull-off (no equilibrium under force control)")
             new_c = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
@@ -473,12 +561,14 @@ class _CGState:
                 diff = float(xp.abs(new_c - p_c_old).sum())
             p[idx] = new_c
 
-        # Relative pressure change (Paper A Eq. 23, made relative).
-        if diff is None:
-            work = self.work
-            xp.subtract(p, self.p_old, out=work)
-            xp.abs(work, out=work)
-            diff = float(work.sum())
+        # Relative pressure change (Paper A Eq. 23, made relative): after a status change
+        # the pressure changed on the old contact and the moved nodes only.
+        if changed:
+            dp = p[old_idx]
+            dp -= p_c_old
+            xp.abs(dp, out=dp)
+            diff = float(dp.sum()) + float(xp.abs(p[moved_nodes] - p_moved_old).sum())
+            del dp
         norm = float(xp.abs(p).sum()) if (self.has_outside or floor != 0.0) else float(p[idx].sum())
         self.error = diff / norm if norm > 0 else diff
         if self.error < 1e-3 * self.gap_residual:
@@ -487,22 +577,39 @@ class _CGState:
             # undoes); restart from steepest descent.
             self.conjugate = False
 
-        # New displacement: incremental while nothing changed status, else exact.
-        #   u <- s (u - tau K t) + (1 - s) W,  W = K(p_out + floor 1_C)
+        # New displacement: incremental while nothing changed status, else exact or, when
+        # few nodes changed, incremental plus their columns of K.
+        #   u <- s (u - tau K t + K d) + (1 - s) W,  W = K(p_out + floor 1_C)
         self.since_exact += 1
         moved = r is not None or scale != 1.0
         if not changed and self.since_exact < self.refresh:
             if moved:
                 u = self.u
                 if r is not None:
-                    xp.multiply(r, -tau, out=self.work)
-                    u += self.work
+                    r *= -tau
+                    u += r
                 if scale != 1.0:
                     u *= scale
                     W = self._W()
                     if not isinstance(W, float):
                         u += (1.0 - scale) * W
                 self.u_exact = False
+        elif (changed and sparse is not None and self.since_exact < self.refresh
+              and (scale == 1.0 or self.w_zero)):
+            u = self.u
+            if r is not None:
+                r *= -tau
+                u += r
+            del r
+            if self.columns is None:
+                self.columns = KernelColumns.of(op)
+            self.columns.add(u.reshape(self.shape), sparse[0], sparse[1], self.g.reshape(self.shape))
+            if scale != 1.0:
+                u *= scale
+            self.n_sparse += 1
+            self.n_columns += len(sparse[0])
+            self.u_exact = False
         elif changed or moved:
+            del r
             self.make_exact()
         return None
