@@ -327,7 +327,7 @@ class _CGState:
         self.p = xp.ascontiguousarray(p, dtype=float).ravel()
         self.cflat = xp.array(contact, dtype=bool).ravel()
         self.idx = xp.flatnonzero(self.cflat)
-        self.t_c = xp.zeros(len(self.idx))
+        self.t_c = None  # search direction on the contact (set by the first iteration)
         self.g = xp.empty(self.size)
         self.ovmask = xp.empty(self.size, dtype=bool)
         self.W = None  # K(p_out + floor 1_C), valid while no node changes status
@@ -427,6 +427,7 @@ class _CGState:
         else:
             self.tau = self.tau0  # no contact yet: penetrating nodes enter with p = -g / K_00
         tau = self.tau
+        del g_c  # (t_c may be the same array)
 
         # Step 5: update on the contact; every node's status from the full gap.
         p_c_old = p[idx]
@@ -508,24 +509,32 @@ class _CGState:
             else:
                 moved_nodes = ov if any_overlap else idx[:0]
             p_moved_old = p[moved_nodes]
+            # The new pressure differs from the incremental one p - tau t on the leavers and
+            # the moved nodes only (before the force balance): few of them -> kernel columns.
+            leave = ~stays
+            n_sparse = int(xp.count_nonzero(leave)) + len(moved_nodes)
+            use_sparse = n_sparse <= self.sparse_max
+            if use_sparse:
+                leavers = idx[leave]
+                p_leavers_inc = p_c_new[leave]
+            else:
+                r = None  # an exact recomputation follows: free K t now
             if out_new is not None:
                 p[moved_nodes] = out_new[moved_nodes]  # elsewhere out_new equals p already
             del out_new
-            p[idx] = xp.where(stays, p_c_new, self.s0[idx] if self.has_outside else self.s0)
+            # leavers take the stress s0 (0 without an outside law); in place, no temporary
+            xp.copyto(p_c_new, self.s0[idx] if self.has_outside else self.s0, where=leave)
+            del leave
+            p[idx] = p_c_new
+            p_c_new = None
             cm = self.cflat
             cm[idx] = stays
             if any_overlap:
                 p[ov] -= tau * g_ov
                 cm[ov] = True
-            # The pressure now differs from the incremental one p - tau t on the leavers and
-            # the moved nodes only (before the force balance).
-            n_sparse = int(len(idx) - xp.count_nonzero(stays)) + len(moved_nodes)
-            if n_sparse <= self.sparse_max:
-                leavers = idx[~stays]
+            if use_sparse:
                 sparse = (xp.concatenate((leavers, moved_nodes)),
-                          xp.concatenate((p[leavers] - p_c_new[~stays], p[moved_nodes] - p_moved_old)))
-            else:
-                r = None  # an exact recomputation follows: free K t now
+                          xp.concatenate((p[leavers] - p_leavers_inc, p[moved_nodes] - p_moved_old)))
             # Keep the search direction of the nodes that stay (0 on the entering ones), for
             # the next conjugate step; g is free now and serves as the scatter buffer.
             self.idx = idx = xp.flatnonzero(cm)
@@ -568,7 +577,7 @@ class _CGState:
             dp -= p_c_old
             xp.abs(dp, out=dp)
             diff = float(dp.sum()) + float(xp.abs(p[moved_nodes] - p_moved_old).sum())
-            del dp
+            del dp, old_idx, moved_nodes, p_moved_old
         norm = float(xp.abs(p).sum()) if (self.has_outside or floor != 0.0) else float(p[idx].sum())
         self.error = diff / norm if norm > 0 else diff
         if self.error < 1e-3 * self.gap_residual:
@@ -576,6 +585,10 @@ class _CGState:
             # has degenerated (e.g. parallel to the pressure, which the force balance
             # undoes); restart from steepest descent.
             self.conjugate = False
+
+        # Free the contact-set temporaries before a convolution allocates its arrays (the
+        # first iteration of a uniform start has every node in contact).
+        p_c_old = p_c_new = stays = p_c = new_c = None  # noqa: F841
 
         # New displacement: incremental while nothing changed status, else exact or, when
         # few nodes changed, incremental plus their columns of K.
