@@ -112,14 +112,12 @@ class LineProfiler:
             base = os.path.basename(fn)
             if base == "columns.py" and func in ("add", "_add_periodic"):
                 cats["sparse kernel columns (real space)"] += sec
-            elif base == "columns.py" and "rfft2(" in src:
-                cats["rfft2"] += sec
-            elif base == "columns.py" and "fft.ifft(" in src:
-                cats["inverse FFT along x (in place)"] += sec
-            elif base == "columns.py" and "fft.irfft(" in src:
-                cats["inverse real FFT along y"] += sec
             elif base == "columns.py" and "*= spec" in src:
                 cats["kernel multiply"] += sec
+            elif base == "columns.py" and any(k in src for k in ("rfft2(", ".r2c(", "True, 0, T")):
+                cats["forward FFT (rfft2 or r2c along y + c2c along x)"] += sec
+            elif base == "columns.py" and any(k in src for k in ("fft.ifft(", "fft.irfft(", ".c2r(", "False, 2, T")):
+                cats["inverse FFT (c2c along x + c2r along y)"] += sec
             elif base == "backend.py" and "rfft2(" in src and "irfft2" not in src:
                 cats["rfft2"] += sec
             elif base == "backend.py" and "irfft2(" in src:
@@ -262,6 +260,43 @@ def apply_parts(op, repeats: int = 5) -> dict:
     return res
 
 
+def in_solve_apply(solve) -> dict:
+    """CPU time per iteration of one solve against ``op.apply`` timed inside it.
+
+    Every convolution the solver makes (``normal.convolve``) is preceded by an ``op.apply``
+    of the same input, timed with ``time.process_time`` and subtracted from the solve's CPU
+    time: both see the same load, caches and memory state.  Returns t_iter, t_apply (mean
+    over the calls), t_conv (mean of the solver's own convolution) and the call count.
+    """
+    import tribobem.solvers.normal as nm
+
+    orig = nm.convolve
+    acc = {"apply": 0.0, "conv": 0.0, "n": 0}
+
+    def timed_convolve(op, x, **kw):
+        t0 = time.process_time()
+        op.apply(x)
+        t1 = time.process_time()
+        out = orig(op, x, **kw)
+        t2 = time.process_time()
+        acc["apply"] += t1 - t0
+        acc["conv"] += t2 - t1
+        acc["n"] += 1
+        return out
+
+    nm.convolve = timed_convolve
+    try:
+        t0 = time.process_time()
+        res = solve()
+        total = time.process_time() - t0
+    finally:
+        nm.convolve = orig
+    n = max(acc["n"], 1)
+    cpu = total - acc["apply"]
+    return {"t_iter": cpu / res.iterations, "t_apply": acc["apply"] / n, "t_conv": acc["conv"] / n,
+            "convolutions": acc["n"], "iterations": res.iterations, "cpu": cpu}
+
+
 def profile_size(n: int, args) -> dict:
     from tribobem.solvers.normal import solve_normal
 
@@ -289,6 +324,8 @@ def profile_size(n: int, args) -> dict:
         t_solve = min(t_solve, wall)
     it = res.iterations
 
+    insitu = in_solve_apply(solve)
+
     # Line profile of one more solve.
     prof = LineProfiler(traced_files())
     t0 = time.perf_counter()
@@ -307,7 +344,7 @@ def profile_size(n: int, args) -> dict:
         params = dict(kw_to_params(args.problem, s, kw), workers=args.workers)
         mem = common.run_memory_probe("tribobem", args.problem, n, params)
 
-    return dict(n=n, iterations=it, converged=res.converged, t_solve=t_solve, t_apply=t_apply, parts=parts,
+    return dict(n=n, iterations=it, converged=res.converged, insitu=insitu, t_solve=t_solve, t_apply=t_apply, parts=parts,
                 t_traced=t_traced, table=table, grouped=prof.grouped(), traced_total=total,
                 applies=prof.apply_calls(), mem_table=mem_table, alive_table=alive_table,
                 elementwise=elementwise_pass(n), traced_peak=traced_peak, mem=mem)
@@ -338,6 +375,11 @@ def main(argv=None) -> int:
         print(f"### n = {n}: {r['iterations']} iterations (converged {r['converged']}), solve {r['t_solve']:.3f} s, "
               f"{1e3 * t_it:.2f} ms/iteration, apply {1e3 * r['t_apply']:.2f} ms, "
               f"t_iter / (2 t_apply) = {t_it / (2 * r['t_apply']):.2f}\n")
+        ins = r["insitu"]
+        print(f"In one untraced solve (CPU time): {1e3 * ins['t_iter']:.2f} ms/iteration, op.apply timed inside it "
+              f"{1e3 * ins['t_apply']:.2f} ms, the solver's convolution {1e3 * ins['t_conv']:.2f} ms; "
+              f"t_iter / t_apply = {ins['t_iter'] / ins['t_apply']:.2f} (target <= 1.5), "
+              f"{ins['convolutions'] / ins['iterations']:.2f} convolutions per iteration\n")
         pa = r["parts"]
         ew = r["elementwise"]
         print("One apply: " + ", ".join(f"{k} {1e3 * v:.2f} ms" for k, v in pa.items()))
@@ -385,11 +427,13 @@ def main(argv=None) -> int:
         tc = r.get("t_apply_in_situ", math.nan)
         tot = sum(r["grouped"].values())
         rows.append([r["n"], r["iterations"], r["applies"] / r["iterations"], r["t_solve"], 1e3 * t_it,
-                     1e3 * r["t_apply"], t_it / (2 * r["t_apply"]), t_it / r["t_apply"], tot / r["iterations"] / tc,
+                     1e3 * r["t_apply"], t_it / (2 * r["t_apply"]),
+                     r["insitu"]["t_iter"] / r["insitu"]["t_apply"], tot / r["iterations"] / tc,
                      r["traced_peak"] / 2**20, r["traced_peak"] / (8 * r["n"] ** 2),
                      m["rss_delta_mib"] if m else math.nan])
     print(markdown_table(["n", "iterations", "convolutions / iteration", "solve s", "ms / iteration", "apply ms",
-                          "t_iter / (2 t_apply)", "t_iter / t_apply", "t_iter / one convolution, in the traced solve",
+                          "t_iter / (2 t_apply)", "t_iter / t_apply, CPU, apply timed in the solve",
+                          "t_iter / one solver convolution, in the traced solve",
                           "NumPy peak MiB", "(grid arrays)",
                           "peak RSS increase MiB"], rows))
     return 0

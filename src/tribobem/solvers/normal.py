@@ -57,7 +57,7 @@ import warnings
 
 import numpy as np
 
-from ..elasticity.columns import KernelColumns, convolve
+from ..elasticity.columns import KernelColumns, convolve, convolve_buffers
 from ..elasticity.operators import ConvolutionOperator
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..interactions.base import NoInteraction
@@ -249,8 +249,10 @@ def solve_normal(
 
     # Final fields, consistent with the returned pressure (the solver's displacement when it
     # is exact for this pressure, else one more convolution).
-    u = state.u.reshape(grid.shape) if state.u_exact else convolve(op, p)
-    del state
+    u = state.u.reshape(grid.shape) if state.u_exact else None
+    del state  # its work arrays go before the last convolution allocates
+    if u is None:
+        u = convolve(op, p)
     g = u + h
     n_c = int(xp.count_nonzero(contact))
     if force_control:
@@ -338,6 +340,7 @@ class _CGState:
         self.g = xp.empty(self.size)
         self.ovmask = xp.empty(self.size, dtype=bool)
         self.W = None  # K(p_out + floor 1_C), valid while no node changes status
+        self.u = None
         # Stress of a node that just left the contact (its gap is ~0), per node: a law may
         # depend on the position (e.g. meniscus islands).
         self.s0 = inter.outside_stress(xp.zeros(self.size), xp) if self.has_outside else 0.0
@@ -353,6 +356,11 @@ class _CGState:
                        and int(xp.count_nonzero(self.p)) == int(xp.count_nonzero(self.p[self.idx])))
         self.sparse_max = _SPARSE_MAX_NODES
         self.columns = None
+        # Work buffers of the convolutions (K t and the exact K p write into them), made once
+        # the contact holds at most a quarter of the nodes: the first iterations of a uniform
+        # start carry full-grid contact vectors, and the memory peak is there.
+        self.r_buf = self.spec_buf = None
+        self.buffered = convolve_buffers(op)[0] is not None
         # Counters (benchmarks): convolutions for K t, exact K p, W; sparse updates and their columns.
         self.n_kt = self.n_exact = self.n_w = self.n_sparse = self.n_columns = 0
         self.make_exact()
@@ -368,9 +376,20 @@ class _CGState:
     def full_pressure(self):
         return self.p.reshape(self.shape)
 
+    def _buffers(self):
+        if self.r_buf is None and self.buffered and 4 * len(self.idx) <= self.size:
+            self.r_buf, self.spec_buf = convolve_buffers(self.op)
+        return self.r_buf, self.spec_buf
+
     def make_exact(self):
-        self.u = None  # free the old displacement before the convolution allocates the new one
-        self.u = convolve(self.op, self.p.reshape(self.shape)).ravel()
+        r_buf, spec_buf = self._buffers()
+        if spec_buf is not None and self.u is not None:
+            # K p written over the old displacement
+            self.u = convolve(self.op, self.p.reshape(self.shape), out=self.u.reshape(self.shape),
+                              spectrum=spec_buf).ravel()
+        else:
+            self.u = None  # free the old displacement before the convolution allocates the new one
+            self.u = convolve(self.op, self.p.reshape(self.shape)).ravel()
         self.n_exact += 1
         self.u_exact = True
         self.since_exact = 0
@@ -421,7 +440,8 @@ class _CGState:
             t_full = self.g  # free until step 5
             t_full.fill(0.0)
             t_full[idx] = t_c
-            r = convolve(op, t_full.reshape(self.shape)).ravel()
+            r_buf, spec_buf = self._buffers()
+            r = convolve(op, t_full.reshape(self.shape), out=r_buf, spectrum=spec_buf).ravel()
             self.n_kt += 1
             r_c = r[idx]
             rt = _dot(r_c, t_c)
@@ -622,7 +642,7 @@ class _CGState:
                 u += r
             del r
             if self.columns is None:
-                self.columns = KernelColumns.of(op)
+                self.columns = KernelColumns.of(op, self.spec_buf)
             self.columns.add(u.reshape(self.shape), sparse[0], sparse[1], self.g.reshape(self.shape))
             if scale != 1.0:
                 u *= scale
