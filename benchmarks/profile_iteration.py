@@ -323,6 +323,7 @@ def profile_size(n: int, args) -> dict:
         wall, _, res = common.timed(solve)
         t_solve = min(t_solve, wall)
     it = res.iterations
+    counters = res.info.get("counters", {})
 
     insitu = in_solve_apply(solve)
 
@@ -347,7 +348,7 @@ def profile_size(n: int, args) -> dict:
     return dict(n=n, iterations=it, converged=res.converged, insitu=insitu, t_solve=t_solve, t_apply=t_apply, parts=parts,
                 t_traced=t_traced, table=table, grouped=prof.grouped(), traced_total=total,
                 applies=prof.apply_calls(), mem_table=mem_table, alive_table=alive_table,
-                elementwise=elementwise_pass(n), traced_peak=traced_peak, mem=mem)
+                elementwise=elementwise_pass(n), traced_peak=traced_peak, mem=mem, counters=counters)
 
 
 def kw_to_params(problem: str, s, kw) -> dict:
@@ -394,12 +395,8 @@ def main(argv=None) -> int:
                   f"{1e3 * t_conv:.2f} ms each; traced time per iteration / (2 x that) = "
                   f"{tot / r['iterations'] / (2 * t_conv):.2f}; time per iteration / one such convolution = "
                   f"{tot / r['iterations'] / t_conv:.2f}; convolutions take {100 * conv / tot:.0f} % of the solve\n")
-        try:
-            from tribobem.solvers import normal as _nm
-
-            print(f"Solver counters (last solve): {_nm._last_stats}\n")
-        except AttributeError:
-            pass
+        if r.get("counters"):
+            print(f"Solver counters (last solve): {r['counters']}\n")
         print(f"Line profile (one traced solve: {r['t_traced']:.3f} s wall, {r['traced_total']:.3f} s charged "
               "to lines; tracer overhead excluded from the charges):\n")
         print(markdown_table(["category", "ms / iteration", "% of solve"],

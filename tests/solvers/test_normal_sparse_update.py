@@ -81,10 +81,10 @@ def test_convolve_equals_apply(periodic, shape):
 
 def _solve_both(monkeypatch, *args, **kw):
     res = solve_normal(*args, **kw)
-    stats = dict(normal._last_stats)
+    stats = res.info["counters"]
     monkeypatch.setattr(normal, "_SPARSE_MAX_NODES", -1)
     exact = solve_normal(*args, **kw)
-    exact_stats = dict(normal._last_stats)
+    exact_stats = exact.info["counters"]
     monkeypatch.undo()
     assert res.converged and exact.converged
     assert stats["sparse_updates"] > 0, stats

@@ -69,9 +69,6 @@ from ..results import NormalResult
 #: K in real space rather than recomputed with a convolution (see _CGState).
 _SPARSE_MAX_NODES = 10
 
-#: Counters of the last Polonsky-Keer solve (benchmarks/profile_iteration.py reads them).
-_last_stats: dict = {}
-
 
 def _self_compliance(op: ConvolutionOperator) -> float:
     """Displacement (m/Pa) of a cell under its own unit pressure (diagonal of K)."""
@@ -244,8 +241,7 @@ def solve_normal(
         message = f"not converged after {max_iterations} iterations (residual {history[-1]:.3e}, tolerance {tol:.1e})"
     p, contact = state.full_pressure(), state.cmask
     delta = state.delta if force_control else float(approach)
-    global _last_stats
-    _last_stats = state.stats()
+    counters = state.stats()  # result.info["counters"] (benchmarks/profile_iteration.py, tests)
 
     # Final fields, consistent with the returned pressure (the solver's displacement when it
     # is exact for this pressure, else one more convolution).
@@ -284,7 +280,8 @@ def solve_normal(
         time=time.perf_counter() - t_start,
         message=message,
         control="force" if force_control else "displacement",
-        info={"max_penetration": max(penetration, 0.0), "interaction": repr(inter), "operator": op.kind},
+        info={"max_penetration": max(penetration, 0.0), "interaction": repr(inter), "operator": op.kind,
+              "counters": counters},
     )
 
 
