@@ -86,6 +86,8 @@ __all__ = ["TangentialOperator", "tangential_operator", "solve_tangential", "Gro
 #: Preconditioner of TangCG when ``solve_tangential(preconditioner=None)`` (also the one the
 #: coupling loop and the load paths use).
 DEFAULT_PRECONDITIONER = "fft"
+#: Free boundary: apply K_tt on the contact's bounding box (exact; see ``_Tangential._apply``).
+USE_BOX = True
 
 
 class GrossSlipError(InputError):
@@ -150,10 +152,12 @@ class TangentialOperator:
     def _crop(self, u):
         return u if self.periodic else u[: self.shape[0], : self.shape[1]]
 
-    def _combine(self, outs: str, ins: str, fields, spectra=None) -> list:
+    def _combine(self, outs: str, ins: str, fields, spectra=None, fft_shape=None) -> list:
         be = self.be
         spectra = self.spec if spectra is None else spectra
-        F = {c: be.rfft2(f, s=self.fft_shape) for c, f in zip(ins, fields) if f is not None}
+        boxed = fft_shape is not None
+        fft_shape = self.fft_shape if fft_shape is None else fft_shape
+        F = {c: be.rfft2(f, s=fft_shape) for c, f in zip(ins, fields) if f is not None}
         res = []
         xp = self.xp
         for o in outs:
@@ -172,15 +176,22 @@ class TangentialOperator:
                     tmp = self._work(1, T.shape, T.dtype)
                     xp.multiply(T, spec, out=tmp)
                     acc += tmp
-            res.append(None if acc is None else self._crop(be.irfft2(acc, s=self.fft_shape)))
+            if acc is None:
+                res.append(None)
+            else:
+                u = be.irfft2(acc, s=fft_shape)
+                res.append(u if boxed else self._crop(u))
         return res
 
     def _work(self, i: int, shape, dtype):
         """Reused spectral work array number ``i`` (its content is overwritten by the caller)."""
         bufs = self.__dict__.setdefault("_bufs", {})
-        b = bufs.get(i)
-        if b is None or b.shape != shape or b.dtype != dtype:
-            b = bufs[i] = self.xp.empty(shape, dtype=dtype)
+        key = (i, tuple(shape), np.dtype(dtype).str)
+        b = bufs.get(key)
+        if b is None:
+            if len(bufs) >= 16:  # many box shapes along a path: keep the memory bounded
+                bufs.clear()
+            b = bufs[key] = self.xp.empty(shape, dtype=dtype)
         return b
 
     def shear_displacement(self, qx, qy):
@@ -273,6 +284,53 @@ class TangentialOperator:
         else:
             Zx, Zy = Rx * spec["xx"], Ry * spec["yy"]
         return be.irfft2(Zx, s=box), be.irfft2(Zy, s=box)
+
+    def box_spectra(self, box) -> tuple:
+        """FFT shape and spectra of K_tt for tractions confined to a box of m1 x m2 cells of a
+        free-boundary grid (cached per box shape).
+
+        The linear convolution of tractions on the box, read on the box, needs the kernel at the
+        offsets |d| <= m - 1 only, so a cyclic convolution of N >= 2m - 1 points per axis is exact
+        (the padded operator uses N = 2n for the whole grid): the same numbers as the padded
+        operator at (N1 N2) / (4 nx ny) of its FFT size.  Returns ``(N1, N2), spectra``
+        (keys "xx", "yy", "xy", "yx"; missing blocks are zero), or None for a periodic operator,
+        where the cyclic convolution of the whole cell is the operator itself.
+        """
+        if self.periodic:
+            return None
+        import scipy.fft
+
+        box = (int(box[0]), int(box[1]))
+        cache = self.__dict__.setdefault("_box_spec", {})
+        if box in cache:
+            return cache[box]
+        N = tuple(scipy.fft.next_fast_len(2 * m - 1, real=True) for m in box)
+        F1, F2 = self.fft_shape
+        spectra = {}
+        for key in ("xx", "xy", "yx", "yy"):
+            k = self._kernel(key)
+            if k is None:
+                continue
+            d1 = np.arange(-(box[0] - 1), box[0])
+            d2 = np.arange(-(box[1] - 1), box[1])
+            kb = np.zeros(N)
+            kb[np.ix_(d1 % N[0], d2 % N[1])] = k[np.ix_(d1 % F1, d2 % F2)]
+            spec = np.fft.rfft2(kb)
+            if np.abs(spec.imag).max() <= 1e-12 * max(np.abs(spec.real).max(), 1e-300):
+                spec = np.ascontiguousarray(spec.real)  # even or odd-odd kernels: real symbols
+            spectra[key] = self.be.asarray(spec)
+        cache[box] = (N, spectra)
+        return cache[box]
+
+    def box_shear_displacement(self, qx, qy):
+        """(u_x, u_y) (m) on a box of a free-boundary grid from the shear (Pa) given on the same
+        box, zero outside it (see :meth:`box_spectra`): two forward and two inverse FFTs of the
+        box's transform size."""
+        box = tuple(qx.shape)
+        N, spec = self.box_spectra(box)
+        ux, uy = self._combine("xy", "xy", (qx, qy), spectra=spec, fft_shape=N)
+        z = self.xp.zeros(box)
+        return (z if ux is None else ux[: box[0], : box[1]]), (z if uy is None else uy[: box[0], : box[1]])
 
     def from_pressure(self, p):
         """In-plane relative displacement (m) from the pressure p (Pa): the coupling K_tz p."""
@@ -595,7 +653,8 @@ def solve_tangential(
         message=message,
         info={"capacity": capacity, "slip_scale": s_scale, "convolutions": st.n_apply,
               "preconditioner_convolutions": st.n_precondition, "preconditioner": preconditioner,
-              "restarts": st.restarts, "method": method, "tangcg_iterations": getattr(st, "cg_iterations", 0)},
+              "restarts": st.restarts, "method": method,
+              "convolution_box": (st._apply_box() or (None,))[0] if n_c else None, "tangcg_iterations": getattr(st, "cg_iterations", 0)},
     )
 
 
@@ -650,7 +709,22 @@ class _Tangential:
         return mag < self.bound * self.RIM
 
     def _apply(self, t):
-        """K_tt t on the contact nodes, for t (2, n) given on them (one tangential convolution)."""
+        """K_tt t on the contact nodes, for t (2, n) given on them (one tangential convolution).
+
+        Free boundary: the convolution on the contact's bounding box only
+        (:meth:`TangentialOperator.box_shear_displacement`, exact: the tractions vanish outside
+        it and the slip is needed on the contact nodes only), when its transform is smaller than
+        0.8 x the padded grid's; the contact of a ball over +-2a fills about half of each axis,
+        so the box transform is about a third of the padded one.  Else the padded operator."""
+        boxed = self._apply_box()
+        if boxed is not None:
+            box, local, bx, by = boxed
+            bx[local] = t[0]
+            by[local] = t[1]
+            ux, uy = self.top.box_shear_displacement(bx.reshape(box), by.reshape(box))
+            bx[local] = 0.0
+            by[local] = 0.0
+            return self.xp.stack([ux.ravel()[local], uy.ravel()[local]])
         fx, fy = self.full
         fx[self.idx] = t[0]
         fy[self.idx] = t[1]
@@ -691,6 +765,20 @@ class _Tangential:
             local = ((ii - i0) % m1) * m2 + (jj - j0) % m2
             self._box_data = ((m1, m2), self.xp.asarray(local), self.xp.zeros(m1 * m2), self.xp.zeros(m1 * m2))
         return self._box_data
+
+    def _apply_box(self):
+        """(box, local indices, scatter buffers) of the box convolution of :meth:`_apply`, or
+        None (periodic grid, no contact, or a box transform not clearly smaller; cached)."""
+        if not hasattr(self, "_apply_box_data"):
+            data = None
+            top = self.top
+            if not top.periodic and self.n > 0 and USE_BOX:
+                box, local, _, _ = self._box()
+                N, _ = top.box_spectra(box)
+                if N[0] * N[1] < 0.8 * top.fft_shape[0] * top.fft_shape[1]:
+                    data = (box, local, self.xp.zeros(box[0] * box[1]), self.xp.zeros(box[0] * box[1]))
+            self._apply_box_data = data
+        return self._apply_box_data
 
     def _precondition(self, t, nodes):
         """M t on ``nodes`` (a mask of the contact nodes), for t (2, n) restricted to them: the
