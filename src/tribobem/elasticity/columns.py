@@ -20,6 +20,8 @@ The kernel is computed once per operator (one inverse FFT) and cached on it.
 from __future__ import annotations
 
 
+import numpy as np
+
 try:  # pocketfft's transforms with an ``out`` argument (what scipy.fft calls); optional
     from scipy.fft._pocketfft import pypocketfft as _pocketfft
 except Exception:  # pragma: no cover - another scipy layout: the public functions are used
@@ -63,6 +65,24 @@ def convolve(op, traction, out=None, spectrum=None):
             return out
         except TypeError:  # pragma: no cover - another pocketfft signature
             pass
+    if _pocketfft is not None and (Nx, Ny) != (nx, ny) and be._lean():
+        # zero-padded (free boundary): the padding rows skipped in both transforms, the
+        # spectrum in a reused (per-thread) buffer
+        from .backend import work_buffers
+
+        bufs = work_buffers(op)
+        shp = (Nx, Ny // 2 + 1)
+        T = bufs.get("spectrum")
+        if T is None or T.shape != shp:
+            T = bufs["spectrum"] = np.empty(shp, dtype=complex)
+        be.rfft2_padded(np.asarray(traction, dtype=float), (Nx, Ny), out=T)
+        T *= spec
+        u = be.irfft2_rows(T, (Nx, Ny), nx)
+        u = u[:, :ny] if Ny != ny else u
+        if out is not None:
+            out[...] = u
+            return out
+        return u
     T = scipy.fft.rfft2(traction, s=(Nx, Ny), workers=w)
     T *= spec
     scipy.fft.ifft(T, axis=0, overwrite_x=True, workers=w)

@@ -38,6 +38,7 @@ from ..errors import ConvergenceWarning, InputError
 from .coupling import solve_coupled
 from .slip_paths import direction_vector
 from .tangential import GrossSlipError
+from .window import auto_window, solve_coupled_windowed
 
 #: Extrapolate the warm start of each step linearly from the last two (see ``solve_coupled``).
 EXTRAPOLATE = True
@@ -162,6 +163,7 @@ def hysteresis_loop(
     interaction=None,
     moving_gap: Callable | None = None,
     progress: Callable[[int, int], None] | None = None,
+    window: bool = True,
     **solver_kw,
 ) -> HysteresisRun:
     """Run tangential force or displacement cycles at a fixed normal force.
@@ -191,6 +193,11 @@ def hysteresis_loop(
         gross slip the offset grows by that step's rigid-displacement increment (thesis
         recommendation 3; new contact pairs form on a rough counterface).  None: the gap is fixed
         (exact for smooth bodies).
+    window : bool
+        Solve each step on a window of the grid around the contact and cohesive zone of the
+        start (free boundary, Dugdale or no adhesion; :mod:`.window`): exact, checked after every
+        step (the window grows, up to the whole grid, when a node outside it closes or comes
+        within the adhesive range).  False: every step on the whole grid.
     **solver_kw
         Passed to :func:`~tribobem.solvers.coupling.solve_coupled`.
 
@@ -221,6 +228,8 @@ def hysteresis_loop(
         run = HysteresisRun(start=start, steps=[], path=path, direction=e,
                             peak_force=peak if control == "force" else float("nan"))
         prev = older = start
+        win = auto_window(start, operator, interaction) if window else None
+        windowed = win is not None
         offset = np.zeros(2)
         gap_k = gap
         n_cycles = int(path.cycle.max())
@@ -243,9 +252,16 @@ def hysteresis_loop(
                 if (v - v1) * (v1 - v0) > 0 and gap_k is gap:
                     extra = (older, min((v - v1) / (v1 - v0), 2.0))
             try:
-                res = solve_coupled(operator, gap_k, friction_coefficient=mu, normal_force=normal_force,
-                                    interaction=interaction, reference=prev.tangential.relative_displacement,
-                                    initial=prev, extrapolate=extra, **load, **solver_kw)
+                if windowed:
+                    res, win = solve_coupled_windowed(
+                        win, operator, gap_k, friction_coefficient=mu, normal_force=normal_force,
+                        interaction=interaction, reference=prev.tangential.relative_displacement,
+                        initial=prev, extrapolate=extra, solver=solve_coupled, **load, **solver_kw)
+                    windowed = win is not None  # grown to the whole grid: stay there
+                else:
+                    res = solve_coupled(operator, gap_k, friction_coefficient=mu, normal_force=normal_force,
+                                        interaction=interaction, reference=prev.tangential.relative_displacement,
+                                        initial=prev, extrapolate=extra, **load, **solver_kw)
             except GrossSlipError as exc:
                 raise GrossSlipError(
                     "friction.path.amplitude",

@@ -76,6 +76,7 @@ import warnings
 
 import numpy as np
 
+from ..elasticity.backend import work_buffers
 from ..elasticity.operators import ConvolutionOperator
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..results import TangentialResult
@@ -157,6 +158,8 @@ class TangentialOperator:
         spectra = self.spec if spectra is None else spectra
         boxed = fft_shape is not None
         fft_shape = self.fft_shape if fft_shape is None else fft_shape
+        if be._lean() and not self.periodic:
+            return self._combine_padded(outs, ins, fields, spectra, fft_shape)
         F = {c: be.rfft2(f, s=fft_shape) for c, f in zip(ins, fields) if f is not None}
         res = []
         xp = self.xp
@@ -183,9 +186,41 @@ class TangentialOperator:
                 res.append(u if boxed else self._crop(u))
         return res
 
+    def _combine_padded(self, outs, ins, fields, spectra, fft_shape) -> list:
+        """``_combine`` for zero-padded (free-boundary or box) transforms with scipy.fft: the
+        transforms of :meth:`Backend.rfft2_padded` and :meth:`Backend.irfft2_rows` (the padding
+        rows skipped, no fresh spectra: every array reused), results m1 x m2 as the inputs."""
+        be, xp = self.be, self.xp
+        m1, m2 = next(f for f in fields if f is not None).shape
+        shp = (fft_shape[0], fft_shape[1] // 2 + 1)
+        F = {}
+        for k, (c, f) in enumerate(zip(ins, fields)):
+            if f is not None:
+                F[c] = be.rfft2_padded(f, fft_shape, out=self._work(10 + k, shp, complex))
+        res = []
+        for o in outs:
+            acc = None
+            for c, T in F.items():
+                spec = spectra.get(o + c)
+                if spec is None:
+                    continue
+                if acc is None:
+                    acc = self._work(0, shp, complex)
+                    xp.multiply(T, spec, out=acc)
+                else:
+                    tmp = self._work(1, shp, complex)
+                    xp.multiply(T, spec, out=tmp)
+                    acc += tmp
+            if acc is None:
+                res.append(None)
+            else:
+                u = be.irfft2_rows(acc, fft_shape, m1)
+                res.append(u[:, :m2])
+        return res
+
     def _work(self, i: int, shape, dtype):
         """Reused spectral work array number ``i`` (its content is overwritten by the caller)."""
-        bufs = self.__dict__.setdefault("_bufs", {})
+        bufs = work_buffers(self)
         key = (i, tuple(shape), np.dtype(dtype).str)
         b = bufs.get(key)
         if b is None:
@@ -1012,35 +1047,42 @@ class _TangCG:
         q_outer = q.copy()
         r = n = t = None
         restart = True
+        # Masks as 0/1 floats and where(): whole-array arithmetic on the contact nodes instead of
+        # boolean gathers and scatters (measured: the iteration's own work 2x faster at 256^2).
+        bsafe = xp.where(b > 0, b, 1.0)
+        division = None
         for it in range(1, max_iterations + 1):
             stick = self.stick
-            slip = ~stick
+            if division is None:
+                slip = ~stick
+                any_slip = bool(slip.any())
+                n_st = int(stick.sum())
+                stickf = stick.astype(float)
+                division = True
             if r is None:
                 # Directions of the slip tractions and the residual.
                 mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
                 n = q / xp.where(mag > 0, mag, 1.0)
                 t = xp.stack([-n[1], n[0]])
                 r = -s
-                if bool(slip.any()):
-                    rt = t[0, slip] * r[0, slip] + t[1, slip] * r[1, slip]
-                    r[0, slip] = rt * t[0, slip]
-                    r[1, slip] = rt * t[1, slip]
+                if any_slip:
+                    rt = t[0] * r[0] + t[1] * r[1]
+                    r = xp.where(slip, rt * t, r)
             # Curvature of the rim: |s.n| / g on slip nodes (s.n < 0 for a proper slip).
-            sn = xp.zeros(st.n)
-            if bool(slip.any()):
-                sn[slip] = xp.maximum(-(s[0, slip] * n[0, slip] + s[1, slip] * n[1, slip]), 0.0) / \
-                    xp.where(b[slip] > 0, b[slip], 1.0)
+            if any_slip:
+                sn = xp.where(slip, xp.maximum(-(s[0] * n[0] + s[1] * n[1]), 0.0) / bsafe, 0.0)
+            else:
+                sn = xp.zeros(st.n)
             z = xp.empty_like(r)
             z[0] = r[0] / (kii[0] + sn)
             z[1] = r[1] / (kii[1] + sn)
-            if self.preconditioner == "fft" and bool(stick.any()):
+            if self.preconditioner == "fft" and n_st:
                 # stick nodes: z = P_S M P_S r (M: the inverse symbol of K_tt on the contact's box)
                 z[0, stick], z[1, stick] = st._precondition(r, stick)
                 st.n_precondition += 1
-            if bool(slip.any()):
-                zt = t[0, slip] * z[0, slip] + t[1, slip] * z[1, slip]
-                z[0, slip] = zt * t[0, slip]
-                z[1, slip] = zt * t[1, slip]
+            if any_slip:
+                zt = t[0] * z[0] + t[1] * z[1]
+                z = xp.where(slip, zt * t, z)
             if restart or v is None:
                 v = z
             else:
@@ -1049,27 +1091,23 @@ class _TangCG:
                 beta = 0.0 if (abs(zq) < 1e-300 or abs(vq) < 1e-6 * abs(zq)) else -zq / vq
                 v = z + beta * v
             restart = False
-            n_st = int(stick.sum())
             if st.force_control and n_st:
-                v[0, stick] -= float(v[0].sum()) / n_st
-                v[1, stick] -= float(v[1].sum()) / n_st
+                v = v - stickf * (v.sum(axis=1) / n_st)[:, None]
             Kv = st._apply(v)
             st.n_apply += 1
             if st.force_control and n_st:
-                Kv = Kv - xp.stack([Kv[0][stick].mean(), Kv[1][stick].mean()])[:, None]
-            Jv = Kv.copy()
-            if bool(slip.any()):
-                jt = t[0, slip] * Jv[0, slip] + t[1, slip] * Jv[1, slip]
-                Jv[0, slip] = jt * t[0, slip] + sn[slip] * v[0, slip]
-                Jv[1, slip] = jt * t[1, slip] + sn[slip] * v[1, slip]
+                Kv = Kv - ((Kv * stickf).sum(axis=1) / n_st)[:, None]
+            if any_slip:
+                jt = t[0] * Kv[0] + t[1] * Kv[1]
+                Jv = xp.where(slip, jt * t + sn * v, Kv)
+            else:
+                Jv = Kv.copy()
             rv, vq = _dot(r, v), _dot(v, Jv)
             alpha = 0.0 if abs(rv) < 1e-300 else (rv / vq if abs(vq) > 1e-6 * abs(rv) else 1.0)
             q += alpha * v
-            if bool(slip.any()):
-                mag = xp.sqrt(q[0, slip] ** 2 + q[1, slip] ** 2)
-                f = b[slip] / xp.where(mag > 0, mag, 1.0)
-                q[0, slip] *= f
-                q[1, slip] *= f
+            if any_slip:
+                mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
+                q *= xp.where(slip, b / xp.where(mag > 0, mag, 1.0), 1.0)
             st.Kq = st.Kq + alpha * Kv  # linear part only; made exact at the next check
             s = s + alpha * Kv
             r = r - alpha * Jv
@@ -1129,6 +1167,7 @@ class _TangCG:
                 if res < self.tol and not changed:
                     return True, it, f"converged in {it} iterations (TangCG)"
                 r = None
+                division = None  # the masks of the (possibly new) element division
                 restart = restart or changed
                 if changed:
                     v = None

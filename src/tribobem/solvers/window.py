@@ -1,0 +1,244 @@
+"""Solving a free-boundary step on a window of the grid: the potential contact area.
+
+On a free-boundary (non-periodic) grid the elastic operator is a linear convolution, so a
+problem whose tractions vanish outside a box of m1 x m2 cells is solved exactly on that box
+alone, with the operator of an m1 x m2 free-boundary grid of the same cell size (its padded
+transforms are 2m1 x 2m2 instead of 2nx x 2ny): the same influence coefficients, the same
+unknowns, the same solution.  This is CONTACT's "potential contact area" (Vollebregt), used here
+for load paths whose contact stays in one place (the hysteresis loops of a ball at a fixed
+normal force: the cohesive zone of the 256^2 benchmark over +-2a fills 60 % of each axis).
+
+What makes it safe is the check after each step (:meth:`Window.embed`): the displacements of the
+whole grid are computed from the window's tractions with the padded operator (one 3x3
+convolution), and every node outside the window must be open (gap > 0) and beyond the range of
+the stress law (no adhesive traction would act there).  When one is not, the window grows to
+cover it (with the margin) and the step is solved again (:func:`solve_coupled_windowed`), up to
+the whole grid; so the result is the whole grid's to the solvers' tolerances, never silently a
+truncated one.  Only interactions that depend on the gap alone and vanish beyond a finite range
+(none, Dugdale) allow a window; a long-range law (van der Waals) or a position-dependent one
+(capillary islands) is solved on the whole grid.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ..elasticity.operators import ConvolutionOperator, free_boundary_operator
+from ..grid import Grid
+from ..interactions.base import NoInteraction
+from ..interactions.dugdale import DugdaleAdhesion
+from ..results import CoupledResult, NormalResult, TangentialResult
+from .coupling import solve_coupled
+
+__all__ = ["Window", "auto_window", "solve_coupled_windowed"]
+
+#: Margin around the support of the tractions (fraction of its extent per side, plus MIN_MARGIN
+#: cells); small, because the check after each step grows the window when it is needed (a cell
+#: or two of the cohesive zone's edge moves over a hysteresis loop at a fixed normal force).
+MARGIN = 0.02
+MIN_MARGIN = 2
+#: Use a window only when its padded transform is below this fraction of the whole grid's.
+MAX_FRACTION = 0.7
+
+
+def _fast_even(m: int, n: int) -> int:
+    """The smallest m' >= m (<= n) whose 2m' is 5-smooth (a fast FFT length)."""
+    k = m
+    while k < n:
+        v = 2 * k
+        for f in (2, 3, 5):
+            while v % f == 0:
+                v //= f
+        if v == 1:
+            return k
+        k += 1
+    return n
+
+
+@dataclasses.dataclass(frozen=True)
+class Window:
+    """Rows ``i0:i1`` and columns ``j0:j1`` of a free-boundary grid."""
+
+    i0: int
+    i1: int
+    j0: int
+    j1: int
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.i1 - self.i0, self.j1 - self.j0)
+
+    def covers(self, shape) -> bool:
+        return self.shape == tuple(shape)
+
+    def slice(self, a):
+        """The window's part of a grid-shaped (or (k, nx, ny)) array, a contiguous copy."""
+        if a is None:
+            return None
+        return np.ascontiguousarray(np.asarray(a)[..., self.i0:self.i1, self.j0:self.j1])
+
+    def operator(self, operator: ConvolutionOperator) -> ConvolutionOperator:
+        """The free-boundary operator of the window's grid (same cells, same materials; cached)."""
+        g = operator.grid
+        m1, m2 = self.shape
+        sub = Grid(m1, m2, m1 * g.dx, m2 * g.dy, False)
+        return free_boundary_operator(sub, operator.pair, operator.components, operator.backend)
+
+    # -- results ----------------------------------------------------------------------
+    def _slice_fields(self, res, grid):
+        full = res.grid.shape
+        changes = {"grid": grid}
+        for f in dataclasses.fields(res):
+            v = getattr(res, f.name)
+            if isinstance(v, np.ndarray) and v.ndim >= 2 and v.shape[-2:] == full:
+                changes[f.name] = self.slice(v)
+        return dataclasses.replace(res, **changes)
+
+    def slice_result(self, res: CoupledResult, operator: ConvolutionOperator) -> CoupledResult:
+        """A whole-grid step restricted to the window (a warm start of the next windowed step)."""
+        grid = self.operator(operator).grid
+        out = dataclasses.replace(res, normal=self._slice_fields(res.normal, grid),
+                                  tangential=self._slice_fields(res.tangential, grid))
+        out._contraction = getattr(res, "_contraction", None)
+        return out
+
+    def embed(self, res: CoupledResult, operator: ConvolutionOperator, gap, reference, interaction):
+        """The whole-grid result of a windowed step, and the nodes outside the window that violate it.
+
+        Tractions and masks are the window's (zero / False outside); the displacements, the gap,
+        the relative displacement and the slip outside the window come from one convolution of
+        the window's tractions with the whole grid's operator (inside they are the window's own).
+
+        Returns
+        -------
+        (CoupledResult, ndarray of bool)
+            The result on the whole grid, and the nodes outside the window that are closed
+            (gap <= 0) or within the stress law's range: if any, the window was too small.
+        """
+        nr, tr = res.normal, res.tangential
+        n_shape = operator.grid.shape
+        sl = (slice(self.i0, self.i1), slice(self.j0, self.j1))
+        xp = operator.xp
+
+        def pad(a, fill=0.0, dtype=float):
+            a = np.asarray(a)
+            out = np.full(a.shape[:-2] + n_shape, fill, dtype=dtype)
+            out[(...,) + sl] = a
+            return out
+
+        p = pad(nr.pressure)
+        q = pad(tr.shear)
+        u = operator.backend.to_numpy(operator.apply(xp.asarray(np.stack([q[0], q[1], p]))))
+        # u[2] is K_zx q_x + K_zy q_y + K_zz p; the normal result's displacement is K_zz p alone
+        # (the shear-induced part enters its gap, solve_coupled), and its gap is h + u_z - delta.
+        uzz = operator.backend.to_numpy(operator.normal.apply(xp.asarray(p)))
+        gap_full = np.asarray(gap, dtype=float) + u[2] - nr.approach
+        outside = np.ones(n_shape, dtype=bool)
+        outside[sl] = False
+        if not math.isfinite(float(nr.approach)):
+            # no contact under force control: the gap outside cannot be checked
+            return res, outside
+        g_out = gap_full[outside]
+        law = interaction if interaction is not None else NoInteraction()
+        bad_out = (g_out <= 0.0) | (np.asarray(law.outside_stress(g_out, np)) != 0.0)
+        violation = np.zeros(n_shape, dtype=bool)
+        violation[outside] = bad_out
+        gap_full[sl] = nr.gap
+        uzz[sl] = nr.displacement
+        normal = dataclasses.replace(
+            nr, grid=operator.grid, pressure=p, gap=gap_full, displacement=uzz,
+            contact=pad(nr.contact, False, bool), adhesive=pad(nr.adhesive, False, bool),
+            info={**nr.info, "window": (self.i0, self.i1, self.j0, self.j1)})
+        rel = np.stack([u[0] - tr.displacement_x, u[1] - tr.displacement_y])
+        rel[(...,) + sl] = tr.relative_displacement
+        slip = rel - np.asarray(reference) if reference is not None else rel.copy()
+        slip[(...,) + sl] = tr.slip
+        tang = dataclasses.replace(
+            tr, grid=operator.grid, shear=q, slip=slip, relative_displacement=rel,
+            contact=pad(tr.contact, False, bool), stick=pad(tr.stick, False, bool),
+            info={**tr.info, "window": (self.i0, self.i1, self.j0, self.j1)})
+        out = dataclasses.replace(res, normal=normal, tangential=tang)
+        out._contraction = getattr(res, "_contraction", None)
+        return out, violation
+
+
+def _window_around(mask, shape, margin: float = MARGIN) -> Window | None:
+    """The box around the True nodes of ``mask`` with the margin, its padded transform fast;
+    None when it would not be clearly smaller than the whole grid's."""
+    nx, ny = shape
+    ii = np.flatnonzero(mask.any(axis=1))
+    jj = np.flatnonzero(mask.any(axis=0))
+    if ii.size == 0:
+        return None
+
+    def axis(lo, hi, n):
+        ext = hi - lo + 1
+        pad = int(math.ceil(margin * ext)) + MIN_MARGIN
+        m = _fast_even(min(ext + 2 * pad, n), n)
+        a = max(0, min((lo + hi + 1) // 2 - m // 2, n - m))
+        return a, a + m
+
+    i0, i1 = axis(int(ii[0]), int(ii[-1]), nx)
+    j0, j1 = axis(int(jj[0]), int(jj[-1]), ny)
+    w = Window(i0, i1, j0, j1)
+    if (i1 - i0) * (j1 - j0) > MAX_FRACTION * nx * ny:
+        return None
+    return w
+
+
+def windowable(operator: ConvolutionOperator, interaction) -> bool:
+    """Whether a step on this operator with this law may be solved on a window (free boundary;
+    no stress law, or one of finite range that depends on the gap alone)."""
+    if operator.periodic:
+        return False
+    return interaction is None or type(interaction) in (NoInteraction, DugdaleAdhesion)
+
+
+def auto_window(res: CoupledResult | NormalResult, operator: ConvolutionOperator, interaction) -> Window | None:
+    """The window around the tractions of a solved state (contact and cohesive zone), or None
+    when windows do not apply or would not pay (see :func:`windowable`, ``MAX_FRACTION``)."""
+    if not windowable(operator, interaction):
+        return None
+    nr = res.normal if isinstance(res, CoupledResult) else res
+    return _window_around((nr.pressure != 0) | nr.contact | nr.adhesive, operator.grid.shape)
+
+
+def solve_coupled_windowed(window: Window | None, operator: ConvolutionOperator, gap, *, initial=None,
+                           extrapolate=None, reference=None, interaction=None, solver=None, **kw):
+    """:func:`~tribobem.solvers.coupling.solve_coupled` on ``window``, checked and embedded.
+
+    ``initial``, ``extrapolate`` and ``reference`` are whole-grid states (as returned).  When a
+    node outside the window closes or comes within the law's range, the window grows around the
+    tractions and those nodes and the step is solved again (up to the whole grid).
+
+    ``solver``: the step solver (default :func:`~tribobem.solvers.coupling.solve_coupled`).
+
+    Returns
+    -------
+    (CoupledResult, Window or None)
+        The whole-grid result and the window it was solved on (for the next step).
+    """
+    solver = solve_coupled if solver is None else solver
+    full_shape = operator.grid.shape
+    while window is not None:
+        wop = window.operator(operator)
+        init_w = window.slice_result(initial, operator) if initial is not None else None
+        extra_w = None
+        if extrapolate is not None and extrapolate[0] is not None:
+            extra_w = (window.slice_result(extrapolate[0], operator), extrapolate[1])
+        res_w = solver(wop, window.slice(gap), initial=init_w, extrapolate=extra_w,
+                              reference=window.slice(reference), interaction=interaction, **kw)
+        res, violation = window.embed(res_w, operator, gap, reference, interaction)
+        if not violation.any():
+            return res, window
+        # grow around the old window, the violating nodes and the tractions (strictly larger:
+        # it covers the violating nodes, which lie outside the old one), or give up to the grid
+        region = np.zeros(full_shape, dtype=bool)
+        region[window.i0:window.i1, window.j0:window.j1] = True
+        window = _window_around(region | violation | (res.normal.pressure != 0) | res.normal.contact, full_shape)
+    res = solver(operator, gap, initial=initial, extrapolate=extrapolate, reference=reference,
+                        interaction=interaction, **kw)
+    return res, None
