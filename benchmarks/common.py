@@ -130,7 +130,7 @@ def tribobem_operator(n: int, workers: int | None = None):
     from tribobem.grid import Grid
     from tribobem.materials import ContactPair, Material
 
-    backend = Backend("numpy", workers) if workers else Backend("numpy")
+    backend = Backend("numpy", workers, small_fft_threads=None) if workers else Backend("numpy")
     grid = Grid.square(n, L, periodic=True)
     pair = ContactPair(Material(E, NU), Material.rigid())
     return periodic_operator(grid, pair, backend=backend)

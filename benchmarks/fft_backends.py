@@ -100,7 +100,7 @@ def engines(workers: int) -> dict:
         return out
     for eng in available_fft_engines():
         def tri_factory(shape, s, eng=eng):
-            be = Backend("numpy", workers, fft=eng)
+            be = Backend("numpy", workers, fft=eng, small_fft_threads=None)
 
             def conv(p, spec):
                 T = be.rfft2(p, s=s)

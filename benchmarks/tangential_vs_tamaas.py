@@ -140,7 +140,7 @@ def tribobem_operators(n: int, nu: float, workers: int | None):
     from tribobem.grid import Grid
     from tribobem.materials import ContactPair, Material
 
-    backend = Backend("numpy", workers) if workers else Backend("numpy")
+    backend = Backend("numpy", workers, small_fft_threads=None) if workers else Backend("numpy")
     grid = Grid.square(n, L, periodic=True)
     op = periodic_operator(grid, ContactPair(Material(E, nu), Material.rigid()), components=("x", "y", "z"),
                            backend=backend)

@@ -17,6 +17,12 @@ relative to scipy.fft on a loaded 2-core machine: pyFFTW 0.54 / 0.62 / 0.69 at 5
 1024^2 / 2048^2 and 0.72 / 0.64 on zero-padded 512^2 / 1024^2; mkl_fft 1.12 / 0.85 / 0.72
 and 0.74 / 0.70).  FFTW plans cost about 0.6 s (1024^2) and 0.9 s (2048^2) once per
 shape and process.  All engines agree to 1e-15 relative.
+
+Zero-padded transforms (free boundary): :meth:`Backend.rfft2_padded` and
+:meth:`Backend.irfft2_rows` skip the padding rows in the real passes and write into reused
+arrays (scipy.fft only, through pocketfft's ``out`` argument; the other engines do the full
+transforms).  Threads: transforms of at most ``SMALL_FFT`` points run on one thread (measured:
+two threads cost more CPU and, between the numpy work of a solver, more wall time there).
 """
 
 from __future__ import annotations
@@ -69,6 +75,21 @@ def default_workers() -> int:
     return os.cpu_count() or 1
 
 
+#: Transforms of at most this many points run on ``small_fft_threads`` threads (default 1).
+#: Measured on this 2-core machine (scipy.fft, rfft2 + irfft2): 2 threads give 1.0x / 1.3x /
+#: 1.2x the speed at 324^2 / 384^2 / 512^2 for 1.3x / 1.2x / 1.3x the CPU time, and the 256^2
+#: hysteresis loop (transforms of 324^2-512^2 between numpy work) ran 1.27x LONGER in wall time
+#: with 2 threads than with 1 (144 vs 113 s; CPU 148 vs 114 s).  At 1024^2 / 2048^2: 1.4x / 1.5x
+#: faster for 1.07x / 1.10x the CPU: there the threads pay.
+SMALL_FFT = 512 * 512
+
+
+def default_small_fft_threads() -> int | None:
+    """Threads for transforms of <= SMALL_FFT points: 1, or None (= ``workers``) when the env
+    ``TRIBOBEM_FFT_WORKERS`` sets the threads explicitly."""
+    return None if os.environ.get("TRIBOBEM_FFT_WORKERS") else 1
+
+
 @dataclass(frozen=True)
 class Backend:
     """An array module with real 2-D FFTs.
@@ -86,6 +107,7 @@ class Backend:
 
     name: str = "numpy"
     workers: int = field(default_factory=default_workers)
+    small_fft_threads: int | None = field(default_factory=default_small_fft_threads)
     fft: str = field(default_factory=default_fft)
     # FFTW plans with their buffers, per (direction, shape): made once, reused.
     _plans: dict = field(default_factory=dict, compare=False, repr=False)
@@ -95,6 +117,12 @@ class Backend:
             from ..errors import InputError
 
             raise InputError("solver.fft", f"must be one of {', '.join(_ENGINES)}; got {self.fft!r}")
+
+    def threads(self, shape) -> int:
+        """Threads for one transform on the grid ``shape`` (see ``SMALL_FFT``)."""
+        if self.small_fft_threads is None or int(shape[0]) * int(shape[1]) > SMALL_FFT:
+            return self.workers
+        return max(1, min(self.workers, self.small_fft_threads))
 
     @property
     def xp(self):
@@ -113,7 +141,7 @@ class Backend:
                 import mkl_fft
 
                 return mkl_fft.rfft2(np.asarray(a, dtype=float), s=s)
-            return scipy.fft.rfft2(a, s=s, workers=self.workers)
+            return scipy.fft.rfft2(a, s=s, workers=self.threads(a.shape if s is None else s))
         import cupyx.scipy.fft as cfft
 
         return cfft.rfft2(a, s=s)
@@ -127,7 +155,7 @@ class Backend:
                 import mkl_fft
 
                 return mkl_fft.irfft2(a, s=s)
-            return scipy.fft.irfft2(a, s=s, workers=self.workers)
+            return scipy.fft.irfft2(a, s=s, workers=self.threads(s))
         import cupyx.scipy.fft as cfft
 
         return cfft.irfft2(a, s=s)
@@ -147,7 +175,7 @@ class Backend:
             return self.rfft2(a, s=s)
         m1, m2 = a.shape
         N1, N2 = int(s[0]), int(s[1])
-        w = self.workers
+        w = self.threads(s)
         T = out if out is not None else np.empty((N1, N2 // 2 + 1), dtype=complex)
         if m2 != N2:
             row = self._real_rows(m1, m2, N2)
@@ -170,7 +198,7 @@ class Backend:
         if not self._lean():
             return self.irfft2(A, s=s)[:rows]
         N1, N2 = int(s[0]), int(s[1])
-        w = self.workers
+        w = self.threads(s)
         _pocketfft.c2c(A, (0,), False, 2, A, w)
         u = out if out is not None else np.empty((rows, N2))
         _pocketfft.c2r(A[:rows], (1,), N2, False, 2, u, w)
@@ -206,9 +234,9 @@ class Backend:
             # 0.6-0.9 s once per shape); tiny grids are not worth it.
             flags = ("FFTW_MEASURE",) if s[0] * s[1] >= 128 * 128 else ("FFTW_ESTIMATE",)
             if kind == "r2c":
-                fft = pyfftw.FFTW(r, c, axes=(0, 1), direction="FFTW_FORWARD", flags=flags, threads=self.workers)
+                fft = pyfftw.FFTW(r, c, axes=(0, 1), direction="FFTW_FORWARD", flags=flags, threads=self.threads(s))
             else:
-                fft = pyfftw.FFTW(c, r, axes=(0, 1), direction="FFTW_BACKWARD", flags=flags, threads=self.workers)
+                fft = pyfftw.FFTW(c, r, axes=(0, 1), direction="FFTW_BACKWARD", flags=flags, threads=self.threads(s))
             r[...] = 0.0  # planning wrote into the buffers; the padding must be 0
             # [nx, ny] last written into r by rfft2: beyond it r is 0.
             plan = self._plans.setdefault(key, (threading.Lock(), r, c, fft, [0, 0]))

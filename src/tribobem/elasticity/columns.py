@@ -52,7 +52,7 @@ def convolve(op, traction, out=None, spectrum=None):
 
     nx, ny = op.grid.nx, op.grid.ny
     Nx, Ny = op.fft_shape
-    w = be.workers
+    w = be.threads((Nx, Ny))
     if (out is not None and spectrum is not None and _pocketfft is not None and (Nx, Ny) == (nx, ny)
             and traction.dtype == out.dtype == spec.real.dtype):
         try:

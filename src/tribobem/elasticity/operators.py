@@ -124,15 +124,21 @@ class ConvolutionOperator:
             Same shape as ``traction``.
         """
         be, nx, ny = self.backend, self.grid.nx, self.grid.ny
+        # Free boundary with scipy.fft: the zero-padded transforms skip the padding rows
+        # (Backend.rfft2_padded / irfft2_rows; the same arithmetic, tested).
+        lean = not self.periodic and be._lean()
+        fwd = (lambda a: be.rfft2_padded(a, self.fft_shape)) if lean else (lambda a: be.rfft2(a, s=self.fft_shape))
         if len(self.components) == 1:
             spec = self.spectra.get("zz")
             if spec is None:
                 return self.xp.zeros_like(traction)
-            T = be.rfft2(traction, s=self.fft_shape)
+            T = fwd(traction)
             T *= spec
+            if lean:
+                return be.irfft2_rows(T, self.fft_shape, nx)[:, :ny]
             u = be.irfft2(T, s=self.fft_shape)
             return u if self.periodic else u[:nx, :ny]
-        T = [be.rfft2(traction[k], s=self.fft_shape) for k in range(len(self.components))]
+        T = [fwd(traction[k]) for k in range(len(self.components))]
         out = self.xp.zeros_like(traction)
         for i, ci in enumerate(self.components):
             acc = None
@@ -143,6 +149,9 @@ class ConvolutionOperator:
                 term = T[k] * spec
                 acc = term if acc is None else acc + term
             if acc is not None:
+                if lean:
+                    out[i] = be.irfft2_rows(acc, self.fft_shape, nx)[:, :ny]
+                    continue
                 u = be.irfft2(acc, s=self.fft_shape)
                 out[i] = u if self.periodic else u[:nx, :ny]
         return out

@@ -19,6 +19,13 @@ spacing): the steps are densest right after a reversal (A', D', H') and right be
 point, where a small force change moves the contact most; m = steps/2 per branch (steps/4 for the
 initial loading, at least 4).
 
+Windows (``window=True``, the default): at a fixed normal force the contact and its cohesive
+zone stay in one place, so on a free-boundary grid every step after the start is solved on a
+window around them (:mod:`.window`: the same discrete problem on fewer cells, checked after each
+step by one whole-grid convolution and grown when a node outside it closes or enters the adhesive
+range; the stored states are whole-grid ones).  On the 256^2 benchmark loop the window is 192^2
+(padded transforms of 384^2 instead of 512^2).
+
 Gross sliding against a rough counterface (thesis recommendation 3): with ``moving_gap`` the
 upper body's geometry moves with the sliding (after each step in gross slip, by that step's
 displacement increment), so new contact pairs form; the elastic pre-sliding displacement does not

@@ -1,0 +1,52 @@
+"""The zero-padded transforms of the scipy.fft engine (Backend.rfft2_padded / irfft2_rows) and
+the free-boundary ``ConvolutionOperator.apply`` that uses them: the same numbers as the plain
+``rfft2`` / ``irfft2`` (to round-off), including reused output buffers and changing shapes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.fft
+
+from tribobem.elasticity.backend import Backend
+from tribobem.elasticity.operators import free_boundary_operator
+from tribobem.grid import Grid
+from tribobem.materials import ContactPair, Material
+
+pytestmark = pytest.mark.skipif(not Backend("numpy", fft="scipy")._lean(),
+                                reason="pocketfft's out= API not available in this scipy")
+
+
+@pytest.mark.parametrize("m, N", [((8, 8), (16, 16)), ((20, 13), (40, 26)), ((17, 31), (36, 64)), ((24, 24), (24, 48))])
+def test_padded_forward_and_row_inverse(m, N):
+    be = Backend("numpy", fft="scipy", workers=1)
+    rng = np.random.default_rng(3)
+    a = rng.normal(size=m)
+    ref = scipy.fft.rfft2(a, s=N)
+    out = np.full((N[0], N[1] // 2 + 1), np.nan + 1j)  # garbage in the buffer must not leak
+    T = be.rfft2_padded(a, N, out=out)
+    assert T is out
+    assert np.abs(T - ref).max() < 1e-12 * np.abs(ref).max()
+    # a second, smaller input through the same thread-local row buffer
+    b = rng.normal(size=(m[0], max(1, m[1] - 3)))
+    assert np.abs(be.rfft2_padded(b, N) - scipy.fft.rfft2(b, s=N)).max() < 1e-12 * np.abs(ref).max()
+    spec = ref * rng.normal(size=ref.shape)
+    u_ref = scipy.fft.irfft2(spec, s=N)[: m[0]]
+    u = be.irfft2_rows(spec.copy(), N, m[0])
+    assert u.shape == (m[0], N[1])
+    assert np.abs(u - u_ref).max() < 1e-12 * np.abs(u_ref).max()
+
+
+@pytest.mark.parametrize("components", [("z",), ("x", "y", "z")])
+def test_free_boundary_apply_lean_equals_plain(monkeypatch, components):
+    grid = Grid(24, 18, 24e-6, 18e-6, False)
+    pair = ContactPair(Material(70e9, 0.3, "a"), Material(200e9, 0.25, "b"))
+    be = Backend("numpy", fft="scipy", workers=1)
+    op = free_boundary_operator(grid, pair, components, backend=be)
+    rng = np.random.default_rng(5)
+    t = rng.normal(size=((len(components),) if len(components) > 1 else ()) + grid.shape)
+    lean = op.apply(t)
+    monkeypatch.setattr(Backend, "_lean", lambda self: False)
+    plain = op.apply(t)
+    assert lean.shape == plain.shape == t.shape
+    assert np.abs(lean - plain).max() < 1e-12 * np.abs(plain).max()
