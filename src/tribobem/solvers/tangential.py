@@ -166,23 +166,8 @@ class TangentialOperator:
             return self._combine_padded(outs, ins, fields, spectra, fft_shape)
         F = {c: be.rfft2(f, s=fft_shape) for c, f in zip(ins, fields) if f is not None}
         res = []
-        xp = self.xp
         for o in outs:
-            acc = None
-            for c, T in F.items():
-                spec = spectra.get(o + c)
-                if spec is None:
-                    continue
-                # Products accumulated in two reused spectral buffers: a fresh multi-MB array
-                # per product costs page faults (glibc returns large blocks to the OS on free)
-                # comparable to the FFTs themselves.
-                if acc is None:
-                    acc = self._work(0, T.shape, T.dtype)
-                    xp.multiply(T, spec, out=acc)
-                else:
-                    tmp = self._work(1, T.shape, T.dtype)
-                    xp.multiply(T, spec, out=tmp)
-                    acc += tmp
+            acc = self._product(o, F, spectra)
             if acc is None:
                 res.append(None)
             else:
@@ -190,11 +175,30 @@ class TangentialOperator:
                 res.append(u if boxed else self._crop(u))
         return res
 
+    def _product(self, o: str, F: dict, spectra: dict):
+        """sum_c F[c] x spectra[o + c] (None when every block is zero), accumulated in two reused
+        spectral buffers: a fresh multi-MB array per product costs page faults (glibc returns
+        large blocks to the OS on free) comparable to the FFTs themselves."""
+        xp = self.xp
+        acc = None
+        for c, T in F.items():
+            spec = spectra.get(o + c)
+            if spec is None:
+                continue
+            if acc is None:
+                acc = self._work(0, T.shape, T.dtype)
+                xp.multiply(T, spec, out=acc)
+            else:
+                tmp = self._work(1, T.shape, T.dtype)
+                xp.multiply(T, spec, out=tmp)
+                acc += tmp
+        return acc
+
     def _combine_padded(self, outs, ins, fields, spectra, fft_shape) -> list:
         """``_combine`` for zero-padded (free-boundary or box) transforms with scipy.fft: the
         transforms of :meth:`Backend.rfft2_padded` and :meth:`Backend.irfft2_rows` (the padding
         rows skipped, no fresh spectra: every array reused), results m1 x m2 as the inputs."""
-        be, xp = self.be, self.xp
+        be = self.be
         m1, m2 = next(f for f in fields if f is not None).shape
         shp = (fft_shape[0], fft_shape[1] // 2 + 1)
         F = {}
@@ -203,18 +207,7 @@ class TangentialOperator:
                 F[c] = be.rfft2_padded(f, fft_shape, out=self._work(10 + k, shp, complex))
         res = []
         for o in outs:
-            acc = None
-            for c, T in F.items():
-                spec = spectra.get(o + c)
-                if spec is None:
-                    continue
-                if acc is None:
-                    acc = self._work(0, shp, complex)
-                    xp.multiply(T, spec, out=acc)
-                else:
-                    tmp = self._work(1, shp, complex)
-                    xp.multiply(T, spec, out=tmp)
-                    acc += tmp
+            acc = self._product(o, F, spectra)
             if acc is None:
                 res.append(None)
             else:
