@@ -117,6 +117,8 @@ def test_force_run_file_contract(tmp_path):
     r = run_scenario(scenario(), outdir=tmp_path, progress=False)
     s = r.summary
     assert s["kind"] == "hysteresis" and s["converged"]
+    w = s["solve_window"]  # cells of the window the last step was solved on, or None (whole grid)
+    assert w is None or (len(w) == 4 and 0 <= w[0] < w[1] and 0 <= w[2] < w[3])
     keys = {"tangential_force_x", "displacement_x", "stick_area", "slip_area", "stick_ratio", "cycle", "branch",
             "force_ratio", "coupling_iterations", "tangential_iterations"}
     assert keys <= set(s["steps"][0])

@@ -140,7 +140,11 @@ def run(pb, bar) -> dict:
                  "peak_force": res.peak_force if path.control == "force" else None,
                  "dissipated_energy": loop_energies(F, D, C),
                  "dissipation_work": [float(w.sum()) * pb.grid.cell_area for w in res.dissipation[1:]],
-                 "failed_steps": [int(i) + 1 for i in res.failed]}
+                 "failed_steps": [int(i) + 1 for i in res.failed],
+                 # cells [i0, i1, j0, j1] of the window the last step was solved on (solvers/window.py:
+                 # exact, checked each step), or None: the whole grid
+                 "solve_window": (list(res.steps[-1].normal.info["window"])
+                                  if res.steps and "window" in res.steps[-1].normal.info else None)}
     # Gross-slip onset on the first loading branch.
     load_rows = [r for r in rows if r["branch"] in ("start", "loading")]
     onset = next((r for r in load_rows if r["stick_area"] == 0.0 and r["branch"] == "loading"), None)
