@@ -50,3 +50,23 @@ def test_free_boundary_apply_lean_equals_plain(monkeypatch, components):
     plain = op.apply(t)
     assert lean.shape == plain.shape == t.shape
     assert np.abs(lean - plain).max() < 1e-12 * np.abs(plain).max()
+
+
+def test_public_path_when_the_private_api_is_missing(monkeypatch):
+    """Without pocketfft's private out= API (another scipy) the plain transforms are used."""
+    import tribobem.elasticity.backend as B
+    import tribobem.elasticity.columns as C
+
+    grid = Grid(20, 16, 20e-6, 16e-6, False)
+    pair = ContactPair(Material(70e9, 0.3, "a"), Material(200e9, 0.25, "b"))
+    be = Backend("numpy", fft="scipy", workers=1)
+    op = free_boundary_operator(grid, pair, ("x", "y", "z"), backend=be)
+    t = np.random.default_rng(2).normal(size=(3,) + grid.shape)
+    lean = op.apply(t)
+    lean_z = C.convolve(op.normal, t[2])
+    monkeypatch.setattr(B, "_pocketfft", None)
+    monkeypatch.setattr(C, "_pocketfft", None)
+    assert not be._lean()
+    assert np.abs(op.apply(t) - lean).max() < 1e-12 * np.abs(lean).max()
+    assert np.abs(C.convolve(op.normal, t[2]) - lean_z).max() < 1e-12 * np.abs(lean_z).max()
+    assert B._private_pocketfft() is not None  # this scipy has it (checked against scipy.fft)

@@ -37,10 +37,33 @@ import scipy.fft
 
 _ENGINES = ("pyfftw", "mkl_fft", "scipy")
 
-try:  # pocketfft's transforms with an ``out`` argument (what scipy.fft calls); optional
-    from scipy.fft._pocketfft import pypocketfft as _pocketfft
-except Exception:  # pragma: no cover - another scipy layout: the public functions are used
-    _pocketfft = None
+
+
+def _private_pocketfft():
+    """pocketfft's transforms with an ``out`` argument (what scipy.fft calls), if this scipy has
+    them with the signatures used here -- checked once against scipy.fft on a small array; else
+    None and the public functions are used (a private API: it may change without notice)."""
+    try:
+        from scipy.fft._pocketfft import pypocketfft as pf
+
+        a = np.arange(12.0).reshape(3, 4) ** 1.5
+        T = np.empty((6, 5), dtype=complex)
+        pf.r2c(np.pad(a, ((0, 0), (0, 4))), (1,), True, 0, T[:3], 1)
+        T[3:] = 0.0
+        pf.c2c(T, (0,), True, 0, T, 1)
+        if not np.allclose(T, scipy.fft.rfft2(a, s=(6, 8)), rtol=1e-12, atol=1e-12):
+            return None
+        u = np.empty((3, 8))
+        pf.c2c(T, (0,), False, 2, T, 1)
+        pf.c2r(T[:3], (1,), 8, False, 2, u, 1)
+        if not np.allclose(u[:, :4], a, rtol=1e-12, atol=1e-12):
+            return None
+        return pf
+    except Exception:  # pragma: no cover - another scipy layout or signature
+        return None
+
+
+_pocketfft = _private_pocketfft()
 
 
 def available_fft_engines() -> list[str]:
@@ -76,11 +99,11 @@ def default_workers() -> int:
 
 
 #: Transforms of at most this many points run on ``small_fft_threads`` threads (default 1).
-#: Measured on this 2-core machine (scipy.fft, rfft2 + irfft2): 2 threads give 1.0x / 1.3x /
-#: 1.2x the speed at 324^2 / 384^2 / 512^2 for 1.3x / 1.2x / 1.3x the CPU time, and the 256^2
-#: hysteresis loop (transforms of 324^2-512^2 between numpy work) ran 1.27x LONGER in wall time
-#: with 2 threads than with 1 (144 vs 113 s; CPU 148 vs 114 s).  At 1024^2 / 2048^2: 1.4x / 1.5x
-#: faster for 1.07x / 1.10x the CPU: there the threads pay.
+#: Measured on this 2-core machine (scipy.fft, rfft2 + irfft2 in a loop): 2 threads give 1.0x /
+#: 1.3x / 1.2x the speed at 324^2 / 384^2 / 512^2 for 1.3x / 1.2x / 1.3x the CPU time; the 256^2
+#: hysteresis loop (transforms of 324^2-512^2 between numpy work) took 144 s wall / 148 s CPU with
+#: 2 threads against 113 s with 1 (one run each; the machine's speed drifts by up to ~25 %).  At
+#: 1024^2 / 2048^2: 1.4x / 1.5x faster for 1.07x / 1.10x the CPU: there the threads pay.
 SMALL_FFT = 512 * 512
 
 

@@ -22,10 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-try:  # pocketfft's transforms with an ``out`` argument (what scipy.fft calls); optional
-    from scipy.fft._pocketfft import pypocketfft as _pocketfft
-except Exception:  # pragma: no cover - another scipy layout: the public functions are used
-    _pocketfft = None
+from .backend import _pocketfft  # pocketfft's out= transforms, checked (None: the public API)
 
 
 def convolve(op, traction, out=None, spectrum=None):
