@@ -33,7 +33,7 @@ from ..interactions.dugdale import DugdaleAdhesion
 from ..results import CoupledResult, NormalResult, TangentialResult
 from .coupling import solve_coupled
 
-__all__ = ["Window", "auto_window", "solve_coupled_windowed"]
+__all__ = ["Window", "auto_window", "windowable", "solve_coupled_windowed"]
 
 #: Margin around the support of the tractions (fraction of its extent per side, plus MIN_MARGIN
 #: cells); small, because the check after each step grows the window when it is needed (a cell
@@ -70,9 +70,6 @@ class Window:
     @property
     def shape(self) -> tuple[int, int]:
         return (self.i1 - self.i0, self.j1 - self.j0)
-
-    def covers(self, shape) -> bool:
-        return self.shape == tuple(shape)
 
     def slice(self, a):
         """The window's part of a grid-shaped (or (k, nx, ny)) array, a contiguous copy."""
@@ -129,6 +126,11 @@ class Window:
             out[(...,) + sl] = a
             return out
 
+        outside = np.ones(n_shape, dtype=bool)
+        outside[sl] = False
+        if not math.isfinite(float(nr.approach)):
+            # no contact under force control: the gap outside cannot be checked (whole grid)
+            return res, outside
         p = pad(nr.pressure)
         q = pad(tr.shear)
         u = operator.backend.to_numpy(operator.apply(xp.asarray(np.stack([q[0], q[1], p]))))
@@ -136,11 +138,6 @@ class Window:
         # (the shear-induced part enters its gap, solve_coupled), and its gap is h + u_z - delta.
         uzz = operator.backend.to_numpy(operator.normal.apply(xp.asarray(p)))
         gap_full = np.asarray(gap, dtype=float) + u[2] - nr.approach
-        outside = np.ones(n_shape, dtype=bool)
-        outside[sl] = False
-        if not math.isfinite(float(nr.approach)):
-            # no contact under force control: the gap outside cannot be checked
-            return res, outside
         g_out = gap_full[outside]
         law = interaction if interaction is not None else NoInteraction()
         bad_out = (g_out <= 0.0) | (np.asarray(law.outside_stress(g_out, np)) != 0.0)
