@@ -78,11 +78,21 @@ class Window:
         return np.ascontiguousarray(np.asarray(a)[..., self.i0:self.i1, self.j0:self.j1])
 
     def operator(self, operator: ConvolutionOperator) -> ConvolutionOperator:
-        """The free-boundary operator of the window's grid (same cells, same materials; cached)."""
-        g = operator.grid
+        """The free-boundary operator of the window's grid (same cells, same materials).
+
+        Cached on ``operator`` per window shape (the operator is translation invariant): the
+        same object step after step, so that what the solvers cache on it (the tangential
+        view, its box and preconditioner spectra, work arrays) is made once, not every step."""
+        cache = operator.__dict__.setdefault("_window_operators", {})
         m1, m2 = self.shape
-        sub = Grid(m1, m2, m1 * g.dx, m2 * g.dy, False)
-        return free_boundary_operator(sub, operator.pair, operator.components, operator.backend)
+        op = cache.get((m1, m2))
+        if op is None:
+            g = operator.grid
+            sub = Grid(m1, m2, m1 * g.dx, m2 * g.dy, False)
+            if len(cache) >= 4:
+                cache.pop(next(iter(cache)))
+            op = cache[(m1, m2)] = free_boundary_operator(sub, operator.pair, operator.components, operator.backend)
+        return op
 
     # -- results ----------------------------------------------------------------------
     def _slice_fields(self, res, grid):
