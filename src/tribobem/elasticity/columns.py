@@ -62,20 +62,9 @@ def convolve(op, traction, out=None, spectrum=None):
             return out
         except TypeError:  # pragma: no cover - another pocketfft signature
             pass
-    if _pocketfft is not None and (Nx, Ny) != (nx, ny) and be._lean():
-        # zero-padded (free boundary): the padding rows skipped in both transforms, the
-        # spectrum in a reused (per-thread) buffer
-        from .backend import work_buffers
-
-        bufs = work_buffers(op)
-        shp = (Nx, Ny // 2 + 1)
-        T = bufs.get("spectrum")
-        if T is None or T.shape != shp:
-            T = bufs["spectrum"] = np.empty(shp, dtype=complex)
-        be.rfft2_padded(np.asarray(traction, dtype=float), (Nx, Ny), out=T)
-        T *= spec
-        u = be.irfft2_rows(T, (Nx, Ny), nx)
-        u = u[:, :ny] if Ny != ny else u
+    if (Nx, Ny) != (nx, ny) and be._lean():
+        # zero-padded (free boundary): ConvolutionOperator.apply skips the padding rows itself
+        u = op.apply(traction)
         if out is not None:
             out[...] = u
             return out

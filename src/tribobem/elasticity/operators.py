@@ -38,7 +38,7 @@ import numpy as np
 
 from ..grid import Grid
 from ..materials import ContactPair
-from .backend import Backend, get_backend
+from .backend import Backend, get_backend, work_buffers
 from .influence import composite_coefficients
 
 AXES = ("x", "y", "z")
@@ -132,7 +132,16 @@ class ConvolutionOperator:
             spec = self.spectra.get("zz")
             if spec is None:
                 return self.xp.zeros_like(traction)
-            T = fwd(traction)
+            if lean:
+                # the spectrum in a reused (per-thread) array: consumed by the inverse below
+                shp = (self.fft_shape[0], self.fft_shape[1] // 2 + 1)
+                bufs = work_buffers(self)
+                T = bufs.get("spectrum")
+                if T is None or T.shape != shp:
+                    T = bufs["spectrum"] = np.empty(shp, dtype=complex)
+                T = be.rfft2_padded(np.asarray(traction, dtype=float), self.fft_shape, out=T)
+            else:
+                T = fwd(traction)
             T *= spec
             if lean:
                 return be.irfft2_rows(T, self.fft_shape, nx)[:, :ny]

@@ -781,8 +781,7 @@ class _Tangential:
 
             top = self.top
             nx, ny = top.shape
-            idx = self.top.be.to_numpy(self.idx)
-            ii, jj = idx // ny, idx % ny
+            ii, jj = self._rows_cols()
 
             def axis(c, n):
                 lo, hi = int(c.min()), int(c.max())
@@ -804,6 +803,12 @@ class _Tangential:
             self._box_data = ((m1, m2), self.xp.asarray(local), self.xp.zeros(m1 * m2), self.xp.zeros(m1 * m2))
         return self._box_data
 
+    def _rows_cols(self):
+        """Row and column indices (NumPy) of the contact nodes on the grid."""
+        ny = self.top.shape[1]
+        idx = self.top.be.to_numpy(self.idx)
+        return idx // ny, idx % ny
+
     def _apply_box(self):
         """(box, local indices, scatter buffers) of the box convolution of :meth:`_apply`, or
         None (periodic grid, no contact, or a box transform not clearly smaller; cached)."""
@@ -813,9 +818,7 @@ class _Tangential:
             if not top.periodic and self.n > 0 and USE_BOX:
                 # the contact's exact bounding box (not the preconditioner's, rounded up to a
                 # fast length: its transform would be up to 1.2x larger per axis)
-                nx, ny = top.shape
-                idx = top.be.to_numpy(self.idx)
-                ii, jj = idx // ny, idx % ny
+                ii, jj = self._rows_cols()
                 i0, j0 = int(ii.min()), int(jj.min())
                 box = (int(ii.max()) - i0 + 1, int(jj.max()) - j0 + 1)
                 N, _ = top.box_spectra(box)
@@ -1059,17 +1062,15 @@ class _TangCG:
         restart = True
         # Masks as 0/1 floats and where(): whole-array arithmetic on the contact nodes instead of
         # boolean gathers and scatters (measured: the iteration's own work 2x faster at 256^2).
+        # The masks change only at a check of the element division, which also resets r.
         bsafe = xp.where(b > 0, b, 1.0)
-        division = None
         for it in range(1, max_iterations + 1):
             stick = self.stick
-            if division is None:
+            if r is None:
                 slip = ~stick
                 any_slip = bool(slip.any())
                 n_st = int(stick.sum())
                 stickf = stick.astype(float)
-                division = True
-            if r is None:
                 # Directions of the slip tractions and the residual.
                 mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
                 n = q / xp.where(mag > 0, mag, 1.0)
@@ -1176,8 +1177,7 @@ class _TangCG:
                     return False, it, f"stalled at residual {res:.3e} (best {best_res:.3e})"
                 if res < self.tol and not changed:
                     return True, it, f"converged in {it} iterations (TangCG)"
-                r = None
-                division = None  # the masks of the (possibly new) element division
+                r = None  # and the masks of the (possibly new) element division
                 restart = restart or changed
                 if changed:
                     v = None
