@@ -82,7 +82,15 @@ max_iterations = 10000
 def test_every_91_key_is_accepted_and_converted_to_si():
     import tomllib
 
-    sc = parse_scenario(tomllib.loads(FULL_91))
+    from tribobem.scenario.schema import Scenario
+
+    # Every key of the file format in one document: each section validates on its own (no one
+    # kind reads them all, so the whole is checked section by section).
+    data = tomllib.loads(FULL_91)
+    sc = Scenario.model_construct(**{name: Scenario.model_fields[name].annotation.__args__[0].model_validate(value)
+                                     if name in ("friction", "humidity") else
+                                     Scenario.model_fields[name].annotation.model_validate(value)
+                                     for name, value in data.items() if name != "kind"})
     assert sc.grid.shape == (16, 16) and sc.grid.lengths == (2e-6, 2e-6)
     assert sc.body1.E == 130e9 and sc.body1.roughness.rms == 1e-9
     assert sc.body2.rigid and sc.body2.shape.radius == 1e-5
@@ -91,6 +99,49 @@ def test_every_91_key_is_accepted_and_converted_to_si():
     assert sc.friction.tangential_forces == [0.0, 1e-6] and sc.friction.path.cycles == 3
     assert sc.humidity.rh == [0.3, 0.5, 0.7, 0.9]
     assert sc.solver.tolerance == 1e-10 and sc.solver.max_iterations == 10000
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_a_kind_refuses_what_it_does_not_read(kind):
+    """Each section and key of the 9.1 set that a kind does not read is an error naming it (never
+    silently dropped); the keys it reads pass that check."""
+    import tomllib
+
+    from tribobem.runs import KINDS as REGISTRY
+
+    reads = REGISTRY[kind].reads()
+    full = tomllib.loads(FULL_91)
+    for section in ("load", "adhesion", "friction", "humidity", "solver"):
+        if section not in reads:
+            d = scenario(kind=kind, **KIND_EXTRAS.get(kind, {}))
+            d[section] = full[section]
+            with pytest.raises(ScenarioError) as exc:
+                parse_scenario(d)
+            assert exc.value.field == section
+            assert f"kind = {kind!r} does not use [{section}]" in str(exc.value)
+    for body in ("body1", "body2"):
+        for key, value in (("film", {"isotherm": "SiO2"}), ("hamaker", "6.5e-20 J")):
+            if key not in reads[body]:
+                with pytest.raises(ScenarioError) as exc:
+                    parse_scenario(scenario(kind=kind, **KIND_EXTRAS.get(kind, {}), **{f"{body}__{key}": value}))
+                assert exc.value.field == f"{body}.{key}" and "does not use it" in str(exc.value)
+    if "preload" not in reads["load"]:  # an ignored key among used ones
+        with pytest.raises(ScenarioError) as exc:
+            parse_scenario(scenario(kind=kind, **KIND_EXTRAS.get(kind, {}), load__preload="1 uN"))
+        assert exc.value.field == "load.preload" and f"kind = {kind!r} does not use it" in str(exc.value)
+
+
+def test_humidity_under_a_dry_friction_kind_is_refused():
+    """The case that ran dry with no warning: [humidity] and films on a partial_slip scenario."""
+    d = scenario(kind="partial_slip", friction={"coefficient": 0.3}, humidity={"rh": [0.3, 0.7]},
+                 body1__film={"isotherm": "SiO2"})
+    with pytest.raises(ScenarioError) as exc:
+        parse_scenario(d)
+    assert exc.value.field == "body1.film" and "kind = 'partial_slip' does not use it" in str(exc.value)
+    d.pop("body1")
+    d["body1"] = {"E": "130 GPa", "nu": 0.28}
+    with pytest.raises(ScenarioError, match=r"humidity: kind = 'partial_slip' does not use \[humidity\]"):
+        parse_scenario(d)
 
 
 @pytest.mark.parametrize(
@@ -123,7 +174,7 @@ def test_shape_kinds_validate(shape):
 
 #: What each kind needs on top of BASE to be a complete scenario.
 KIND_EXTRAS = {
-    "pulloff": {"load__preload": "1 uN", "adhesion": {"work_of_adhesion": 0.05, "z0": 3e-10}},
+    "pulloff": {"load": {"preload": "1 uN"}, "adhesion": {"work_of_adhesion": 0.05, "z0": 3e-10}},
     "partial_slip": {"friction": {"coefficient": 0.2}},
     "hysteresis": {"friction": {"coefficient": 0.2, "path": {"control": "force", "cycles": 1, "steps": 8}}},
     "capillary": {"humidity": {"rh": [0.5]}},
@@ -168,7 +219,7 @@ def test_ranges_and_lists():
         ({"load__approach": 1e-9}, "load", ["exactly one of force, approach"]),
         ({"load__forces": [1e-6, "2 uN", "1 nm"]}, "load.forces", ["item 2", "expected a force"]),
         ({"adhesion": {"model": "dugdale", "z0": "0.3 nm"}}, "adhesion.work_of_adhesion", ["required"]),
-        ({"kind": "pulloff"}, "adhesion.model", ["needs adhesion"]),
+        ({"kind": "pulloff", "load": {}}, "adhesion.model", ["needs adhesion"]),
         ({"body1": {"rigid": True}}, "body2.rigid", ["both bodies are rigid"]),
         ({"solver": {"tolerance": 0}}, "solver.tolerance", ["(0, 1)"]),
         ({"grid": 64}, "grid", ["table"]),
@@ -340,10 +391,18 @@ def test_output_fields_last_keeps_the_most_loaded_step():
     assert int(r.fields["summary_step"].values[0]) == 1
 
 
-@pytest.mark.parametrize("kind", sorted(set(KINDS) - set(IMPLEMENTED_KINDS)))
-def test_unimplemented_kinds_fail_clearly(kind):
+def test_kinds_come_from_the_registry():
+    """The schema's kinds are the registry's: a kind is accepted exactly when it can run."""
+    from tribobem.runs import KINDS as REGISTRY
+
+    assert KINDS == tuple(REGISTRY) == IMPLEMENTED_KINDS
+    with pytest.raises(ScenarioError) as exc:
+        parse_scenario(scenario(kind="sliding"))
+    assert exc.value.field == "kind" and all(k in str(exc.value) for k in REGISTRY)
     with pytest.raises(NotImplementedKindError, match="not implemented yet in this version"):
-        run_scenario(scenario(kind=kind, **KIND_EXTRAS.get(kind, {})), progress=False)
+        from tribobem.runs import get_runner
+
+        get_runner("sliding")
 
 
 def test_nonconvergence_is_reported_not_silent():
@@ -353,3 +412,32 @@ def test_nonconvergence_is_reported_not_silent():
     assert r.summary["converged"] is False
     assert r.summary["warnings"]
     assert r.steps[0]["converged"] is False
+
+
+def test_values_that_would_be_ignored_are_refused():
+    # rigid = true with a Poisson ratio: nu would be dropped
+    with pytest.raises(ScenarioError) as exc:
+        parse_scenario(scenario(body2__nu=0.3))
+    assert exc.value.field == "body2.nu" and "rigid" in str(exc.value)
+    # a spectral kernel on a free-boundary grid: the free grid always uses influence coefficients
+    with pytest.raises(ScenarioError) as exc:
+        parse_scenario(scenario(solver__kernel="spectral"))
+    assert exc.value.field == "solver.kernel" and "periodic" in str(exc.value)
+    assert parse_scenario(scenario(solver__kernel="influence")).solver.kernel == "influence"
+    assert parse_scenario(scenario(grid__periodic=True, solver__kernel="spectral")).solver.kernel == "spectral"
+    # a single load with unload = true: no unloading branch to trace
+    with pytest.raises(ScenarioError) as exc:
+        parse_scenario(scenario(load__unload=True))
+    assert exc.value.field == "load.unload"
+    # a humid pull-off under force control: it unloads under displacement control only
+    def humid(**changes):
+        return scenario(kind="pulloff", load={"preload": "1 uN"}, humidity={"rh": [0.5]}, **changes)
+
+    with pytest.raises(ScenarioError) as exc:
+        parse_scenario(humid(load__control="force"))
+    assert exc.value.field == "load.control"
+    assert parse_scenario(humid(load__loading=False)).load.loading is False
+    with pytest.raises(ScenarioError) as exc:  # films on a dry pull-off
+        parse_scenario(scenario(kind="pulloff", load={"preload": "1 uN"},
+                                adhesion={"work_of_adhesion": 0.05, "z0": 3e-10}, body1__film={"isotherm": "SiO2"}))
+    assert exc.value.field == "body1.film" and "humid pull-off only" in str(exc.value)

@@ -187,8 +187,9 @@ def test_partial_slip_load_variants():
                                  friction__tangential_forces=["0 uN", "0.1 uN", "0.2 uN"]))
     assert sc.load.forces == [1e-6, 2e-6, 3e-6] and len(sc.friction.tangential_forces) == 3
     parse_scenario(scenario(load={"forces": ["1 uN", "2 uN"]}, friction__slip="incremental"))
-    parse_scenario(scenario(load={"forces": ["1 uN", "2 uN"]}, friction__slip="incremental",
-                            friction__tangential_displacements=["0 nm", "1 nm"]))
+    with pytest.raises(ScenarioError, match="pairs with tangential_forces only"):
+        parse_scenario(scenario(load={"forces": ["1 uN", "2 uN"]}, friction__slip="incremental",
+                                friction__tangential_displacements=["0 nm", "1 nm"]))
     # one normal force in a list: the total criterion is fine (no history needed)
     parse_scenario(scenario(load={"forces": ["1 uN"]}, friction__tangential_forces=["0.1 uN"]))
     # with adhesion a tensile normal force is allowed
@@ -216,8 +217,8 @@ def test_partial_slip_load_variants():
          ["paired step by step", "same length", "2 against 3"]),
         ({"load": {"forces": ["1 uN", "2 uN"]}, "friction__slip": "incremental",
           "friction__tangential_displacements": {"start": 0, "stop": 1e-9, "num": 5}},
-         "friction.tangential_displacements", ["same length", "5 against 2"]),
-        ({"friction__path": {"control": "force"}}, "friction.path", ["kind = 'hysteresis' only"]),
+         "friction.tangential_displacements", ["pairs with tangential_forces only"]),
+        ({"friction__path": {"control": "force"}}, "friction.path", ["kind = 'partial_slip' does not use it", "used by kind 'hysteresis'"]),
         ({"load__force": "-1 uN"}, "load.force", ["> 0 N without adhesion"]),
         ({"load": {"forces": ["1 uN", "-1 uN"]}, "friction__slip": "incremental"}, "load.forces",
          ["> 0 N without adhesion"]),
@@ -246,8 +247,8 @@ def test_hysteresis_variants():
         ({"load": {"forces": ["1 uN", "2 uN"]}}, "load.forces", ["one normal force, load.force"]),
         ({"load": {"approach": "1 nm"}}, "load.approach", ["one normal force, load.force"]),
         ({"load__force": "-1 uN"}, "load.force", ["> 0 N without adhesion"]),
-        ({"friction__tangential_forces": [0, 1e-6]}, "friction.tangential_forces", ["not used by kind = 'hysteresis'", "friction.path"]),
-        ({"friction__tangential_displacements": [0, 1e-9]}, "friction.tangential_displacements", ["not used"]),
+        ({"friction__tangential_forces": [0, 1e-6]}, "friction.tangential_forces", ["kind = 'hysteresis' does not use it", "friction.path"]),
+        ({"friction__tangential_displacements": [0, 1e-9]}, "friction.tangential_displacements", ["does not use it"]),
         ({"friction__slip": "total"}, "friction.slip", ["'incremental'", "history"]),
         ({"friction__coefficient": 0}, "friction.coefficient", ["> 0 for a force-controlled path", "mu F0+"]),
     ],
@@ -257,7 +258,10 @@ def test_hysteresis_errors(changes, field, words):
 
 
 # ----------------------------------------------------------------------------- other kinds
-def test_friction_section_does_not_constrain_the_normal_kinds():
-    sc = parse_scenario(scenario(kind="normal", friction={"tangential_forces": [0, 1e-6], "slip": "incremental"}))
-    assert sc.friction.coefficient is None
+def test_a_friction_section_under_a_frictionless_kind_is_refused():
+    # it used to be accepted and ignored: a user believed friction was applied
+    for kind, extra in (("normal", {}), ("capillary", {"humidity": {"rh": [0.5]}})):
+        with pytest.raises(ScenarioError, match=rf"friction: kind = '{kind}' does not use \[friction\]"):
+            parse_scenario(scenario(kind=kind, friction={"tangential_forces": [0, 1e-6], "slip": "incremental"},
+                                    **extra))
     assert parse_scenario(scenario(kind="normal", friction=None)).friction is None

@@ -1,4 +1,9 @@
-"""Run kinds: one module per kind, one registry ``kind -> runner`` (SPEC 12).
+"""Run kinds: one module per kind, one registry line per kind (SPEC 12).
+
+Each ``runs/<kind>.py`` defines ``KIND``, a :class:`~tribobem.runs.kind.RunKind`: its runner,
+the scenario sections and keys it reads, its consistency rules.  The scenario schema takes its
+list of kinds from :data:`KINDS` and asks the kind which sections it reads and whether a
+scenario is consistent; it has no per-kind branch.
 
 A runner is called as ``runner(pb, bar)`` with the built
 :class:`~tribobem.scenario.build.Problem` and a progress handler (``bar.phase(description,
@@ -19,10 +24,9 @@ total)``, ``bar(done, total)``), and returns a dict with the keys
 ``warnings`` (optional)
     messages for summary.json ``warnings`` and the report's banner.
 
-A new kind is a new module here with a ``run(pb, bar)`` function and ONE line in
-:data:`RUNNERS`.  The scenario schema (:mod:`tribobem.scenario.schema`) lists the kinds it
-accepts; a kind runs exactly when it has a runner here.  Nothing in this package imports
-:mod:`tribobem.scenario` at import time (the schema imports the registry).
+A new kind is a new module here defining ``run(pb, bar)`` and ``KIND`` and ONE line in
+:data:`KINDS`.  Nothing in this package imports :mod:`tribobem.scenario` (the schema imports
+the registry).
 """
 
 from __future__ import annotations
@@ -31,8 +35,9 @@ from importlib import import_module
 from typing import Callable
 
 from ..errors import InputError
+from .kind import RunKind
 
-__all__ = ["RUNNERS", "Runner", "get_runner", "available_kinds", "NotImplementedKindError"]
+__all__ = ["KINDS", "RUNNERS", "RunKind", "Runner", "get_runner", "get_kind", "available_kinds", "NotImplementedKindError"]
 
 #: ``runner(pb: Problem, bar) -> dict``
 Runner = Callable[..., dict]
@@ -46,24 +51,33 @@ class NotImplementedKindError(InputError):
         super().__init__(field, message)
 
 
-def _runner(module: str) -> Runner:
-    return import_module(f"{__name__}.{module}").run
+def _kind(module: str) -> RunKind:
+    return import_module(f"{__name__}.{module}").KIND
 
 
-#: kind -> runner, one line per kind.
-RUNNERS: dict[str, Runner] = {
-    "normal": _runner("normal"),
-    "pulloff": _runner("pulloff"),
-    "partial_slip": _runner("partial_slip"),
-    "hysteresis": _runner("hysteresis"),
-    "capillary": _runner("capillary"),
-    # a new kind: its module runs/<kind>.py and one line here
+#: kind -> its declaration, one line per kind.
+KINDS: dict[str, RunKind] = {
+    "normal": _kind("normal"),
+    "pulloff": _kind("pulloff"),
+    "partial_slip": _kind("partial_slip"),
+    "hysteresis": _kind("hysteresis"),
+    "capillary": _kind("capillary"),
+    # a new kind: its module runs/<kind>.py with KIND = RunKind(...) and one line here
 }
+
+#: kind -> runner (``KINDS[kind].run``).
+RUNNERS: dict[str, Runner] = {name: kind.run for name, kind in KINDS.items()}
 
 
 def available_kinds() -> tuple[str, ...]:
     """The kinds that have a runner, in registry order."""
-    return tuple(RUNNERS)
+    return tuple(KINDS)
+
+
+def get_kind(kind: str) -> RunKind:
+    """The declaration of ``kind`` (a :class:`NotImplementedKindError` names the available ones)."""
+    get_runner(kind)
+    return KINDS[kind]
 
 
 def get_runner(kind: str) -> Runner:

@@ -34,8 +34,9 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from .common import solve_kw
+from .kind import ALL, RunKind, fail, require_humidity
 
-__all__ = ["run", "films_at", "capillary_options", "capillary_row", "step_maps", "STEP_FIELDS"]
+__all__ = ["run", "check", "KIND", "films_at", "capillary_options", "capillary_row", "step_maps", "STEP_FIELDS"]
 
 #: fields.nc variables a capillary step adds: name -> (dtype, attributes).
 STEP_FIELDS = {
@@ -195,3 +196,26 @@ def run(pb, bar) -> dict:
                             "capillary_pressure": ([r["capillary_pressure"] for r in rows],
                                                    {"units": "Pa", "long_name": "applied capillary pressure"})},
             "step_fields": {name: (maps[name], STEP_FIELDS[name][1]) for name in STEP_FIELDS}}
+
+
+def check(sc) -> None:
+    """Kind ``capillary``: ``[humidity] rh`` and one load, held at every RH (``force`` or
+    ``approach``)."""
+    require_humidity(sc)
+    given = sc.load.given
+    if given not in (["force"], ["approach"]):
+        fail("load.force" if not given else f"load.{given[1]}",
+             "kind = 'capillary' takes one load, held at every RH: force (N) or approach (m)"
+             + (f" (got {', '.join(given)})" if given else ""))
+
+
+KIND = RunKind(
+    name="capillary", run=run, check=check,
+    summary="capillary adhesion from adsorbed water films and menisci at one load, RH by RH",
+    uses={"load": ("force", "approach"), "humidity": ALL, "body1": ("film", "hamaker"),
+          "body2": ("film", "hamaker")},
+    hints={"friction": "kind = 'capillary' is frictionless; leave [friction] out",
+           "load.forces": "kind = 'capillary' takes one load, held at every RH: force (N) or approach (m)",
+           "load.approaches": "kind = 'capillary' takes one load, held at every RH: force (N) or approach (m)",
+           "load.preload": "a capillary run takes load.force or load.approach"},
+)

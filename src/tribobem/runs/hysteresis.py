@@ -22,8 +22,9 @@ import numpy as np
 from ..errors import InputError
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
 from .common import solve_kw
+from .kind import RunKind, fail, positive_normal_load, require_friction
 
-__all__ = ["run", "lateral_stiffness_fit", "STIFFNESS_POINTS"]
+__all__ = ["run", "check", "KIND", "lateral_stiffness_fit", "STIFFNESS_POINTS"]
 
 #: Paper F's points on the branch from -F* to +F*: F_x / (mu F0+).
 STIFFNESS_POINTS = {"A": -0.5, "B": 0.0, "C": 0.5}
@@ -209,3 +210,35 @@ def run(pb, bar) -> dict:
         }
     return {"rows": rows, "results": results, "tangential": tangential, "labels": labels, "indices": keep,
             "curve": None, "run": run_level, "cycle_fields": cycle_fields}
+
+
+def check(sc) -> None:
+    """Kind ``hysteresis``: mu, ``friction.path`` and one normal force held during the cycles;
+    incremental slip (the loop follows the history); mu > 0 on a force-controlled path."""
+    fr, load = require_friction(sc), sc.load
+    if fr.path is None:
+        fail("friction.path", "required for kind = 'hysteresis': e.g. { control = \"force\", "
+             "amplitude = 0.999, cycles = 3, steps = 80 } or { control = \"displacement\", "
+             "stroke = \"3 um\", cycles = 4, steps = 80 }")
+    if "slip" in fr.model_fields_set and fr.slip == "total":
+        fail("friction.slip", "a hysteresis loop follows the load history: slip must be 'incremental' "
+                              "(or left out); the total criterion has no history")
+    if fr.path.control == "force" and fr.coefficient == 0:
+        fail("friction.coefficient", "must be > 0 for a force-controlled path: its amplitude is a "
+                                     "fraction of mu F0+ (got 0)")
+    if load.force is None:
+        fail("load.force", "required for kind = 'hysteresis': the normal force held during the "
+                           "tangential cycles (> 0 N without adhesion)")
+    positive_normal_load(sc)
+
+
+_ONE_FORCE = "kind = 'hysteresis' takes one normal force, load.force (held during the tangential cycles)"
+_PATH = "its tangential loading is friction.path"
+
+KIND = RunKind(
+    name="hysteresis", run=run, check=check,
+    summary="friction hysteresis: tangential force or displacement cycles at one normal force",
+    uses={"load": ("force",), "friction": ("coefficient", "direction", "slip", "path")},
+    hints={"load.forces": _ONE_FORCE, "load.approach": _ONE_FORCE, "load.approaches": _ONE_FORCE,
+           "friction.tangential_forces": _PATH, "friction.tangential_displacements": _PATH},
+)

@@ -13,8 +13,9 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from .common import solve_kw, step_row
+from .kind import RunKind, fail, positive_normal_load
 
-__all__ = ["run"]
+__all__ = ["run", "check", "KIND"]
 
 
 def run(pb, bar) -> dict:
@@ -65,3 +66,25 @@ def run(pb, bar) -> dict:
         out["run"]["hysteresis_energy"] = curve.hysteresis_energy
     out.update(rows=rows, results=list(curve.results), labels=labels, indices=list(range(len(rows))), curve=curve)
     return out
+
+
+def check(sc) -> None:
+    """Kind ``normal``: exactly one of the four loads; compressive without adhesion; ``unload``
+    traces a list back down (a single load has no unloading branch)."""
+    load = sc.load
+    given = load.given
+    if len(given) != 1:
+        fail("load.force" if not given else f"load.{given[1]}",
+             "give exactly one of force, approach, forces or approaches"
+             + (f" (got {', '.join(given)})" if given else ""))
+    if "unload" in load.model_fields_set and given[0] in ("force", "approach"):
+        fail("load.unload", f"traces a list of loads back down (load.forces or load.approaches); a single "
+                            f"load.{given[0]} has no unloading branch")
+    positive_normal_load(sc)
+
+
+KIND = RunKind(
+    name="normal", run=run, check=check,
+    summary="normal contact at one load or along a list of loads (with Dugdale adhesion if given)",
+    uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",)},
+)

@@ -24,8 +24,9 @@ import numpy as np
 from ..errors import InputError
 from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
 from .common import solve_kw
+from .kind import RunKind, fail, positive_normal_load, require_friction
 
-__all__ = ["run"]
+__all__ = ["run", "check", "KIND"]
 
 #: Bisection of the gross-slip onset: bracket width relative to mu F0+ (SPEC 9.1 / issue).
 ONSET_TOLERANCE = 1e-3
@@ -58,10 +59,7 @@ def run(pb, bar) -> dict:
     theta = math.radians(fr.direction)
     e = (math.cos(theta), math.sin(theta))
     out: dict = {"run": {"friction_coefficient": mu, "slip": fr.slip, "direction": fr.direction}}
-    if load.forces is not None:
-        if fr.tangential_displacements is not None:
-            raise InputError("friction.tangential_displacements",
-                             "a normal-load path (load.forces) pairs with tangential_forces only")
+    if load.forces is not None:  # check() paired it with tangential_forces only
         bar.phase("normal steps", len(load.forces))
         steps = normal_path(pb.operator, pb.gap, normal_forces=load.forces, friction_coefficient=mu,
                             tangential_forces=fr.tangential_forces, direction=fr.direction,
@@ -125,3 +123,47 @@ def run(pb, bar) -> dict:
         results, tangential, labels, indices = [z.normal], [z.tangential], ["zero force"], [0]
     out.update(rows=rows, results=results, tangential=tangential, labels=labels, indices=indices, curve=None)
     return out
+
+
+def check(sc) -> None:
+    """Kind ``partial_slip``: mu; one normal force held during a tangential ramp (forces or
+    displacements, at most one), or a normal-load path (``load.forces``, incremental slip) paired
+    step by step with tangential forces."""
+    fr, load = require_friction(sc), sc.load
+    if len(fr.tangential_given) > 1:
+        fail("friction.tangential_displacements", "give at most one of tangential_forces (force "
+             "control) or tangential_displacements (displacement control)")
+    if load.force is None and load.forces is None:
+        fail("load.force", "required for kind = 'partial_slip': the normal force held during the "
+                           "tangential ramp (or load.forces, a normal-load path)")
+    if load.force is not None and load.forces is not None:
+        fail("load.forces", "give one of load.force (held during the tangential ramp) or "
+                            "load.forces (a normal-load path), not both")
+    positive_normal_load(sc)
+    if load.forces is not None:
+        if fr.slip == "total" and len(load.forces) > 1:
+            fail("friction.slip", "must be 'incremental' with a normal-load path (load.forces with "
+                 f"{len(load.forces)} forces): the total criterion solves every step from the "
+                 "undeformed state and has no history, so it cannot follow a path")
+        if fr.tangential_displacements is not None:
+            fail("friction.tangential_displacements", "a normal-load path (load.forces) pairs with "
+                                                      "tangential_forces only")
+        for key in fr.tangential_given:
+            n_t = len(getattr(fr, key))
+            if n_t != len(load.forces):
+                fail(f"friction.{key}", f"with load.forces the two lists are paired step by step and "
+                     f"must have the same length; got {n_t} against {len(load.forces)} normal forces")
+
+
+_APPROACH = ("approach-controlled normal loads are not supported for kind = 'partial_slip'; give "
+             "load.force (held during the tangential ramp) or load.forces (a normal-load path)")
+
+KIND = RunKind(
+    name="partial_slip", run=run, check=check,
+    summary="partial slip along a tangential ramp or a normal-load path, to the gross-slip onset",
+    uses={"load": ("force", "forces"),
+          "friction": ("coefficient", "tangential_forces", "tangential_displacements", "direction", "slip")},
+    hints={"friction.path": "a partial_slip ramp is friction.tangential_forces or "
+                            "friction.tangential_displacements",
+           "load.approach": _APPROACH, "load.approaches": _APPROACH},
+)

@@ -18,8 +18,9 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from .common import curve_from_rows, offset_progress, solve_kw
+from .kind import ALL, RunKind, fail, require_humidity
 
-__all__ = ["run"]
+__all__ = ["run", "check", "KIND"]
 
 #: How summary.json names the start of the unloading without a preload.
 ZERO_LOAD = "zero external load (adhesive equilibrium at F = 0)"
@@ -80,3 +81,44 @@ def run(pb, bar) -> dict:
     idx_pre = n_loading if len(rows) > n_loading else -1
     return {"rows": rows, "results": [start, at], "labels": ["preload", "pull-off"], "indices": [idx_pre, -1],
             "curve": curve, "run": run, "warnings": list(po.notes)}
+
+
+#: Load keys of the pull-off (the humid one honours control and loading only at their
+#: displacement / no-loading values: check()).
+_DRY_LOAD = ("preload", "control", "steps", "refine", "loading")
+
+
+def check(sc) -> None:
+    """Kind ``pulloff``: Dugdale adhesion, or ``[humidity]`` (a humid pull-off, the films' keys
+    ``film``/``hamaker`` then belong to it); a humid pull-off unloads under displacement control
+    from its start with no separate loading branch."""
+    if sc.humidity is not None:
+        require_humidity(sc)
+        # What a humid pull-off does anyway may be stated; the other choice is refused.
+        given, load = sc.load.model_fields_set, sc.load
+        if "control" in given and load.control != "displacement":
+            fail("load.control", "a humid pull-off (kind = 'pulloff' with [humidity]) unloads under "
+                                 "displacement control only (leave control out or give 'displacement')")
+        if "loading" in given and load.loading:
+            fail("load.loading", "a humid pull-off (kind = 'pulloff' with [humidity]) has no separate "
+                                 "loading branch (leave loading out or give false)")
+        return
+    for body in ("body1", "body2"):
+        for key in ("film", "hamaker"):
+            if key in getattr(sc, body).model_fields_set:
+                fail(f"{body}.{key}", "used by a humid pull-off only (kind = 'pulloff' with a [humidity] "
+                                      "section); this pull-off is dry")
+    if not sc.adhesion.enabled:
+        fail("adhesion.model", "kind = 'pulloff' needs adhesion: model = 'dugdale' with "
+                               "work_of_adhesion and z0 (or a [humidity] section: a humid pull-off)")
+
+
+KIND = RunKind(
+    name="pulloff", run=run, check=check,
+    summary="the pull-off force: unloading from a preload (Dugdale adhesion, or capillary with [humidity])",
+    uses={"load": _DRY_LOAD, "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker")},
+    hints={"friction": "a pull-off is frictionless; leave [friction] out",
+           **{f"load.{k}": "a pull-off unloads from load.preload (a compressive force; left out: from the "
+                           "adhesive equilibrium at zero external load)"
+              for k in ("force", "approach", "forces", "approaches")}},
+)

@@ -25,6 +25,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, StrictBool, 
 from pydantic_core import PydanticCustomError
 
 from ..errors import InputError
+from ..runs import KINDS as RUN_KINDS
 from ..runs import RUNNERS
 from ..units import DIMENSIONS, UnitMismatch, convert
 
@@ -46,9 +47,9 @@ __all__ = [
     "EXPECTED_KEYS",
 ]
 
-#: Run kinds the schema accepts (SPEC 9.1).
-KINDS = ("normal", "pulloff", "partial_slip", "hysteresis", "capillary")
-#: Run kinds this version can run: exactly those with a runner in :data:`tribobem.runs.RUNNERS`.
+#: Run kinds the schema accepts: those of the registry :data:`tribobem.runs.KINDS`.
+KINDS = tuple(RUN_KINDS)
+#: Run kinds this version can run (every kind of the registry has a runner).
 IMPLEMENTED_KINDS = tuple(k for k in KINDS if k in RUNNERS)
 
 
@@ -453,6 +454,7 @@ class BodySpec(Section):
 
     @model_validator(mode="after")
     def _material(self):
+        said_rigid = "rigid" in self.model_fields_set and self.rigid  # (E = inf sets rigid below)
         if self.rigid:
             if self.E is not None and math.isfinite(self.E):
                 _fail("E", "give either E or rigid = true, not both")
@@ -460,6 +462,10 @@ class BodySpec(Section):
             _fail("E", "required: a Young's modulus > 0 (e.g. \"130 GPa\"), or rigid = true")
         elif math.isinf(self.E):
             self.rigid = True
+        if said_rigid and "nu" in self.model_fields_set:
+            # (E = inf with a nu stays allowed: the limit of an elastic body, where nu drops out)
+            _fail("nu", "a rigid body (rigid = true) has no Poisson's ratio; leave nu out, or give a finite "
+                        "E and nu for an elastic body")
         if not self.rigid and self.nu is None:
             _fail("nu", "required with E: Poisson's ratio in (-1, 0.5]")
         return self
@@ -777,7 +783,7 @@ class ExpectedSpec(Section):
 class Scenario(Section):
     """A complete, validated scenario (all quantities in SI)."""
 
-    kind: Literal["normal", "pulloff", "partial_slip", "hysteresis", "capillary"] = "normal"
+    kind: Literal[KINDS] = "normal"
     name: Optional[str] = None
     description: Optional[str] = None
     grid: GridSpec
@@ -793,136 +799,27 @@ class Scenario(Section):
 
     @model_validator(mode="after")
     def _consistent(self):
-        load, adh = self.load, self.adhesion
-        if self.solver.method != "polonsky_keer" and self.kind != "normal":
-            _fail("solver.method", f"{self.solver.method!r} is available for kind = 'normal' only; kind = "
-                  f"{self.kind!r} follows a load path with the Polonsky-Keer solver (leave method out)")
-        if self.body1.rigid and self.body2.rigid and not (self.kind == "capillary" and load.approach is not None):
+        # The rules live with the kind (tribobem.runs.<kind>.KIND): the sections and keys it
+        # reads -- anything else the scenario gives is an error, never silently dropped -- and
+        # its own consistency checks.  Only what holds for every kind is checked here.
+        kind = RUN_KINDS[self.kind]
+        unused = kind.unused(self, RUN_KINDS)
+        if unused:
+            _fail(*unused[0])
+        if self.body1.rigid and self.body2.rigid and not (self.kind == "capillary" and self.load.approach is not None):
             # Two rigid bodies carry no force at a prescribed load; a capillary run at a
             # prescribed approach is well defined (the meniscus force of rigid bodies, Paper B 4.1).
             _fail("body2.rigid", "both bodies are rigid; give at least one a finite E (two rigid bodies are "
                   "allowed only for kind = \"capillary\" at a prescribed load.approach)")
-        if self.kind == "normal":
-            given = load.given
-            if len(given) != 1:
-                _fail("load.force" if not given else f"load.{given[1]}",
-                      "give exactly one of force, approach, forces or approaches"
-                      + (f" (got {', '.join(given)})" if given else ""))
-            if not adh.enabled:
-                if load.force is not None and load.force <= 0:
-                    _fail("load.force", f"must be > 0 N without adhesion, got {load.force:g} N "
-                          "(a tensile load needs [adhesion])")
-                if load.forces is not None and min(load.forces) <= 0:
-                    _fail("load.forces", "every force must be > 0 N without adhesion "
-                          f"(got {min(load.forces):g} N; a tensile load needs [adhesion])")
-        elif self.kind == "pulloff":
-            if self.humidity is not None:
-                self._humid()  # a humid pull-off: capillarity is adhesive, [adhesion] optional
-            elif not adh.enabled:
-                _fail("adhesion.model", "kind = 'pulloff' needs adhesion: model = 'dugdale' with "
-                      "work_of_adhesion and z0 (or a [humidity] section: a humid pull-off)")
-        elif self.kind == "capillary":
-            self._capillary()
-        elif self.kind == "partial_slip":
-            self._partial_slip()
-        elif self.kind == "hysteresis":
-            self._hysteresis()
+        if "kernel" in self.solver.model_fields_set and self.solver.kernel != "influence" and not self.grid.periodic:
+            _fail("solver.kernel", f"{self.solver.kernel!r} is for periodic grids; a free-boundary grid always "
+                  "uses the influence coefficients of uniform pressure on its cells (leave kernel out)")
+        if kind.check is not None:
+            try:
+                kind.check(self)
+            except InputError as exc:
+                _fail(exc.field, exc.reason)
         return self
-
-    # -- the capillary kinds (SPEC 9.1 extensions)
-    def _humid(self):
-        hum = self.humidity
-        if hum is None or not hum.rh:
-            _fail("humidity.rh", f"required for kind = {self.kind!r}: the relative humidities, fractions in "
-                                 "(0, 1], e.g. rh = [0.3, 0.5, 0.7, 0.9]")
-        if self.friction is not None and self.friction.coefficient is not None:
-            _fail("friction.coefficient", f"kind = {self.kind!r} is frictionless; leave [friction] out")
-
-    def _capillary(self):
-        self._humid()
-        load = self.load
-        given = load.given
-        if given not in (["force"], ["approach"]):
-            listed = [k for k in given if k in ("forces", "approaches")]
-            _fail(f"load.{listed[0]}" if listed else ("load.force" if not given else f"load.{given[1]}"),
-                  "kind = 'capillary' takes one load, held at every RH: force (N) or approach (m)"
-                  + (f" (got {', '.join(given)})" if given else ""))
-        if "preload" in load.model_fields_set:
-            _fail("load.preload", "used by kind = 'pulloff' only; a capillary run takes load.force or load.approach")
-
-    # -- the tangential kinds (SPEC 9.1 extensions)
-    def _friction_coefficient(self) -> FrictionSpec:
-        fr = self.friction
-        if fr is None or fr.coefficient is None:
-            _fail("friction.coefficient", f"required for kind = {self.kind!r}: the friction coefficient "
-                                          "mu >= 0 (0: frictionless), in a [friction] section")
-        return fr
-
-    def _positive_normal_load(self):
-        load = self.load
-        if self.adhesion.enabled:
-            return
-        if load.force is not None and load.force <= 0:
-            _fail("load.force", f"must be > 0 N without adhesion, got {load.force:g} N "
-                                "(a tensile load needs [adhesion])")
-        if load.forces is not None and min(load.forces) <= 0:
-            _fail("load.forces", "every force must be > 0 N without adhesion "
-                                 f"(got {min(load.forces):g} N; a tensile load needs [adhesion])")
-
-    def _partial_slip(self):
-        fr, load = self._friction_coefficient(), self.load
-        if fr.path is not None:
-            _fail("friction.path", "used by kind = 'hysteresis' only; a partial_slip ramp is "
-                                   "friction.tangential_forces or friction.tangential_displacements")
-        if len(fr.tangential_given) > 1:
-            _fail("friction.tangential_displacements", "give at most one of tangential_forces (force "
-                  "control) or tangential_displacements (displacement control)")
-        for key in ("approach", "approaches"):
-            if getattr(load, key) is not None:
-                _fail(f"load.{key}", "approach-controlled normal loads are not supported for kind = "
-                      "'partial_slip'; give load.force (held during the tangential ramp) or load.forces "
-                      "(a normal-load path)")
-        if load.force is None and load.forces is None:
-            _fail("load.force", "required for kind = 'partial_slip': the normal force held during the "
-                  "tangential ramp (or load.forces, a normal-load path)")
-        if load.force is not None and load.forces is not None:
-            _fail("load.forces", "give one of load.force (held during the tangential ramp) or "
-                                 "load.forces (a normal-load path), not both")
-        self._positive_normal_load()
-        if load.forces is not None:
-            if fr.slip == "total" and len(load.forces) > 1:
-                _fail("friction.slip", "must be 'incremental' with a normal-load path (load.forces with "
-                      f"{len(load.forces)} forces): the total criterion solves every step from the "
-                      "undeformed state and has no history, so it cannot follow a path")
-            for key in fr.tangential_given:
-                n_t = len(getattr(fr, key))
-                if n_t != len(load.forces):
-                    _fail(f"friction.{key}", f"with load.forces the two lists are paired step by step and "
-                          f"must have the same length; got {n_t} against {len(load.forces)} normal forces")
-
-    def _hysteresis(self):
-        fr, load = self._friction_coefficient(), self.load
-        if fr.path is None:
-            _fail("friction.path", "required for kind = 'hysteresis': e.g. { control = \"force\", "
-                  "amplitude = 0.999, cycles = 3, steps = 80 } or { control = \"displacement\", "
-                  "stroke = \"3 um\", cycles = 4, steps = 80 }")
-        for key in fr.tangential_given:
-            _fail(f"friction.{key}", "not used by kind = 'hysteresis': its tangential loading is "
-                                     "friction.path")
-        if "slip" in fr.model_fields_set and fr.slip == "total":
-            _fail("friction.slip", "a hysteresis loop follows the load history: slip must be 'incremental' "
-                                   "(or left out); the total criterion has no history")
-        if fr.path.control == "force" and fr.coefficient == 0:
-            _fail("friction.coefficient", "must be > 0 for a force-controlled path: its amplitude is a "
-                                          "fraction of mu F0+ (got 0)")
-        for key in ("forces", "approach", "approaches"):
-            if getattr(load, key) is not None:
-                _fail(f"load.{key}", "kind = 'hysteresis' takes one normal force, load.force (held "
-                                     "during the tangential cycles)")
-        if load.force is None:
-            _fail("load.force", "required for kind = 'hysteresis': the normal force held during the "
-                                "tangential cycles (> 0 N without adhesion)")
-        self._positive_normal_load()
 
     @property
     def implemented(self) -> bool:

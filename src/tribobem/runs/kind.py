@@ -1,0 +1,166 @@
+"""What a run kind declares: the scenario sections and keys it uses, and its own rules.
+
+Every ``runs/<kind>.py`` module defines ``KIND = RunKind(...)``.  The scenario schema asks the
+kind, never a list of special cases:
+
+* :meth:`RunKind.unused` -- each section or key the scenario *gives* (present in the file or
+  dict, whatever its value) that the kind does not read is an error naming it, e.g.
+  ``humidity: kind = 'partial_slip' does not use [humidity]``.  A scenario that runs never
+  carries a value the run silently ignores.
+* :attr:`RunKind.check` -- the kind's consistency rules (which load keys go together, what a
+  path needs, ...).  They raise :class:`~tribobem.errors.InputError` naming the key.
+
+Nothing here imports :mod:`tribobem.scenario` (the schema imports the registry); the rules get
+the validated :class:`~tribobem.scenario.schema.Scenario` as an argument.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping, Optional, Union
+
+from ..errors import InputError
+
+__all__ = ["ALL", "SECTIONS", "BODY_KEYS", "COMMON", "RunKind", "fail"]
+
+#: A section whose every key the kind reads.
+ALL = "*"
+
+#: The scenario sections (tables) in file order; ``kind``, ``name``, ``description`` and
+#: ``expected`` are top-level metadata that every kind accepts.
+SECTIONS = ("grid", "body1", "body2", "load", "adhesion", "friction", "humidity", "solver", "output")
+
+#: The body keys every kind reads (the films' keys ``film`` and ``hamaker`` belong to the
+#: capillary kinds).
+BODY_KEYS = frozenset({"E", "nu", "rigid", "name", "roughness", "shape"})
+
+#: The sections every kind reads in full, or with these keys.
+COMMON: dict[str, Union[str, frozenset]] = {
+    "grid": ALL,
+    "body1": BODY_KEYS,
+    "body2": BODY_KEYS,
+    "adhesion": ALL,
+    "solver": frozenset({"tolerance", "max_iterations", "backend", "kernel"}),
+    "output": ALL,
+}
+
+
+def fail(key: str, message: str):
+    """Raise the :class:`~tribobem.errors.InputError` of a kind's rule on scenario key ``key``
+    (dotted from the top, e.g. ``"load.force"``)."""
+    raise InputError(key, message)
+
+
+def _keys(value) -> Union[str, frozenset]:
+    return value if value == ALL else frozenset(value)
+
+
+@dataclass(frozen=True)
+class RunKind:
+    """A run kind: its runner, the scenario sections and keys it reads, its rules.
+
+    Parameters
+    ----------
+    name : str
+        The scenario's ``kind``.
+    run : callable
+        ``run(pb, bar) -> dict``: the runner (:mod:`tribobem.runs`).
+    uses : mapping
+        Section -> the keys of that section the kind reads (an iterable of names) or
+        :data:`ALL`, on top of :data:`COMMON`.  A section missing from both is not read at all.
+    check : callable, optional
+        ``check(scenario)``: the kind's consistency rules; raises
+        :class:`~tribobem.errors.InputError` (:func:`fail`) naming the key.
+    hints : mapping, optional
+        ``"section"`` or ``"section.key"`` -> why the kind does not read it and what to give
+        instead, appended to the generic message.
+    summary : str
+        One line on what the kind computes (the CLI and the docs list it).
+    """
+
+    name: str
+    run: Callable[..., dict]
+    uses: Mapping[str, Any] = field(default_factory=dict)
+    check: Optional[Callable[[Any], None]] = None
+    hints: Mapping[str, str] = field(default_factory=dict)
+    summary: str = ""
+
+    def reads(self) -> dict[str, Union[str, frozenset]]:
+        """Section -> the keys this kind reads (:data:`ALL`: every key); absent: not read."""
+        out = dict(COMMON)
+        for section, keys in self.uses.items():
+            if section not in SECTIONS:
+                raise ValueError(f"run kind {self.name!r} declares an unknown section {section!r}")
+            keys = _keys(keys)
+            base = out.get(section)
+            if keys == ALL or base == ALL:
+                out[section] = ALL
+            else:
+                out[section] = (base or frozenset()) | keys
+        return out
+
+    def unused(self, scenario, registry: Mapping[str, "RunKind"] = ()) -> list[tuple[str, str]]:
+        """``(key, message)`` for each section or key ``scenario`` gives that this kind does not
+        read (in file order); ``registry`` (kind -> RunKind) names the kinds that do read it."""
+        reads = self.reads()
+        problems = []
+        for section in SECTIONS:
+            if section not in scenario.model_fields_set:
+                continue
+            keys = reads.get(section)
+            if keys is None:
+                by = [k for k, kd in dict(registry).items() if section in kd.reads()]
+                problems.append((section, self._message(f"[{section}]", section, by)))
+                continue
+            if keys == ALL:
+                continue
+            given = getattr(scenario, section)
+            for key in type(given).model_fields:  # declared order
+                if key in given.model_fields_set and key not in keys:
+                    dotted = f"{section}.{key}"
+                    by = [k for k, kd in dict(registry).items()
+                          if (kd.reads().get(section) == ALL or key in (kd.reads().get(section) or ()))]
+                    problems.append((dotted, self._message("it", dotted, by)))
+        return problems
+
+    def _message(self, what: str, key: str, by: list[str]) -> str:
+        text = f"kind = {self.name!r} does not use {what}"
+        # a body key's hint may be given once for both bodies as "body.<key>"
+        hint = self.hints.get(key) or self.hints.get(key.replace("body1.", "body.").replace("body2.", "body."))
+        if by:
+            text += f" (used by kind {', '.join(repr(k) for k in by)})"
+        if hint:
+            text += f"; {hint}"
+        return text
+
+
+# ----------------------------------------------------------------------------- rules shared by kinds
+def require_friction(sc):
+    """The ``[friction]`` section with its coefficient (the tangential kinds need mu)."""
+    fr = sc.friction
+    if fr is None or fr.coefficient is None:
+        fail("friction.coefficient", f"required for kind = {sc.kind!r}: the friction coefficient "
+                                     "mu >= 0 (0: frictionless), in a [friction] section")
+    return fr
+
+
+def require_humidity(sc):
+    """``[humidity] rh``: the relative humidities of a capillary run."""
+    hum = sc.humidity
+    if hum is None or not hum.rh:
+        fail("humidity.rh", f"required for kind = {sc.kind!r}: the relative humidities, fractions in "
+                            "(0, 1], e.g. rh = [0.3, 0.5, 0.7, 0.9]")
+    return hum
+
+
+def positive_normal_load(sc):
+    """Without adhesion a prescribed normal force must be compressive (> 0 N)."""
+    load = sc.load
+    if sc.adhesion.enabled:
+        return
+    if load.force is not None and load.force <= 0:
+        fail("load.force", f"must be > 0 N without adhesion, got {load.force:g} N "
+                           "(a tensile load needs [adhesion])")
+    if load.forces is not None and min(load.forces) <= 0:
+        fail("load.forces", "every force must be > 0 N without adhesion "
+                            f"(got {min(load.forces):g} N; a tensile load needs [adhesion])")
