@@ -42,6 +42,8 @@ app = typer.Typer(
 EXIT_INPUT = 2
 #: Exit code of ``validate`` when a case fails.
 EXIT_FAILED = 1
+#: Exit code after Ctrl-C (SIGINT): 128 + 2, as a shell reports an interrupted command.
+EXIT_INTERRUPTED = 130
 
 
 def package_version() -> str:
@@ -105,6 +107,32 @@ def _user_errors():
         kind = "memory" if isinstance(exc, MemoryBudgetError) else "error"
         _stderr().print(f"[bold red]{kind}:[/bold red] [red]{escape(' '.join(str(text).split()))}[/red]")
         raise typer.Exit(EXIT_INPUT) from None
+
+
+@contextmanager
+def _interrupts(outdir: Path, what: str):
+    """Ctrl-C: one line on stderr that says what the result folder holds, and exit code 130.
+
+    The files of a result folder are written to temporary files and moved into place
+    together (:func:`tribobem.output.atomic.staged`), so the folder holds either its previous
+    complete outputs (or none) or the new complete ones; which one is read off summary.json
+    (a new one is a new file: ``os.replace``)."""
+    from .output.atomic import file_state
+
+    summary = Path(outdir) / "summary.json"
+    before = file_state(summary)
+    try:
+        yield
+    except KeyboardInterrupt:
+        after = file_state(summary)
+        if after is not None and after != before:
+            state = f"outputs in {outdir} are the new complete ones (written before the interrupt)"
+        elif before is not None:
+            state = f"outputs in {outdir} are the previous complete ones"
+        else:
+            state = f"outputs in {outdir} were not written"
+        _stderr().print(f"[bold yellow]interrupted:[/bold yellow] {escape(what)} stopped by Ctrl-C; {escape(state)}")
+        raise typer.Exit(EXIT_INTERRUPTED) from None
 
 
 def _warn_nonconverged(summary: dict, quiet: bool) -> None:
@@ -259,7 +287,8 @@ def demo(
         if not (quiet or as_json):
             _stdout().print("[bold]tribobem demo[/bold]: rigid sphere (R = 1 µm) on a compliant flat (E* = 5 GPa), "
                             f"Dugdale adhesion; {escape(where)}")
-        summary = _run(sc, out, quiet, as_json, base_dir=Path.cwd())
+        with _interrupts(out, "tribobem demo"):
+            summary = _run(sc, out, quiet, as_json, base_dir=Path.cwd())
         if not as_json:
             from .output.checks import pull_off_statement
 
@@ -280,7 +309,8 @@ def run(
         if not scenario.exists():
             raise FileNotFoundError(f"scenario file {scenario} not found")
         outdir = out if out is not None else Path("results") / scenario.stem
-        _run(scenario, outdir, quiet, as_json)
+        with _interrupts(outdir, "tribobem run"):
+            _run(scenario, outdir, quiet, as_json)
 
 
 # ----------------------------------------------------------------------------- sweep
@@ -299,8 +329,13 @@ def sweep(
 
         if not sweep_file.exists():
             raise FileNotFoundError(f"sweep file {sweep_file} not found")
-        code = sweep_command(str(sweep_file), out=str(out) if out else None, scheduler=scheduler, workers=workers,
-                             quiet=quiet, json_output=as_json)
+        try:  # a Ctrl-C while the sweep runs: sweep_command says what is saved and returns 130
+            code = sweep_command(str(sweep_file), out=str(out) if out else None, scheduler=scheduler,
+                                 workers=workers, quiet=quiet, json_output=as_json)
+        except KeyboardInterrupt:  # before the sweep started, or a second Ctrl-C
+            _stderr().print("[bold yellow]interrupted:[/bold yellow] tribobem sweep stopped by Ctrl-C; the points "
+                            "finished so far are saved; run the same command again to compute the rest")
+            code = EXIT_INTERRUPTED
     if code:
         raise typer.Exit(code)
 
@@ -559,7 +594,8 @@ def plot(
             raise FileNotFoundError(f"result folder {result} not found")
         if result.is_file():
             result = result.parent
-        files = replot(result)
+        with _interrupts(result, "tribobem plot"):
+            files = replot(result)
         if not quiet:
             for name, path in files.items():
                 _stdout().print(f"{name}: {escape(str(path))}")

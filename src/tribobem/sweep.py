@@ -41,11 +41,14 @@ import itertools
 import json
 import math
 import os
+import signal
 import socket
 import sys
+import threading
 import time
 import tomllib
 import traceback
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping
@@ -55,7 +58,8 @@ import numpy as np
 from . import _solver_version
 from ._solver_version import SOLVER_VERSION  # noqa: F401 (re-exported; read at call time below)
 from .errors import InputError
-from .output.summary import atomic_path
+from .output.atomic import TMP_GLOB, atomic_path, atomic_write_text, file_state, staged  # noqa: F401 (re-exported)
+from .output.summary import jsonable
 from .units import parse_quantity, si_unit, si_value
 
 __all__ = [
@@ -83,42 +87,14 @@ RECORD_VERSION = 1
 
 
 # --------------------------------------------------------------------------------------
-# Atomic writes
-# --------------------------------------------------------------------------------------
-
-def atomic_write_text(path: str | os.PathLike, text: str) -> None:
-    """Write ``text`` to ``path`` atomically (temporary file, fsync, rename)."""
-    with atomic_path(path) as tmp:
-        with open(tmp, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-
-
-# --------------------------------------------------------------------------------------
 # Values, hashing, merging
 # --------------------------------------------------------------------------------------
 
 def _jsonable(value):
-    """Plain JSON types (numpy scalars and arrays converted; non-finite floats -> None)."""
-    if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _jsonable(value.tolist())
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        v = float(value)
-        return v if math.isfinite(v) else None
-    if value is None or isinstance(value, str):
-        return value
-    if isinstance(value, os.PathLike):
-        return os.fspath(value)
-    return repr(value)
+    """Plain JSON types (:func:`tribobem.output.summary.jsonable`: numpy scalars and arrays
+    converted, non-finite floats -> None); any other object as its ``repr``, as the point
+    hashes have always been made."""
+    return jsonable(value, fallback=repr)
 
 
 def _canonical(obj) -> str:
@@ -652,9 +628,16 @@ def read_points(outdir: str | os.PathLike) -> dict[str, dict]:
             rec = json.loads(f.read_text(encoding="utf-8"))
         except (OSError, ValueError):
             continue
-        if isinstance(rec, dict) and rec.get("hash") == f.stem:
+        if _is_record(rec, f.stem):
             out[f.stem] = rec
     return out
+
+
+def _is_record(rec, h: str) -> bool:
+    """A whole point record of point ``h`` (a file that is not one, e.g. one cut short by a
+    crash of a writer that was not atomic, counts as missing and its point is computed again)."""
+    return (isinstance(rec, dict) and rec.get("hash") == h and rec.get("status") in ("ok", "failed")
+            and isinstance(rec.get("outputs"), dict))
 
 
 # --------------------------------------------------------------------------------------
@@ -761,9 +744,15 @@ def gather(spec: SweepSpec, outdir: str | os.PathLike, records: Mapping[str, dic
 
 def write_results(spec: SweepSpec, outdir: str | os.PathLike, records: Mapping[str, dict] | None = None,
                   runner: str | None = None) -> tuple[Path, Path]:
-    """Write ``results.nc`` and ``results.csv`` (atomically) and return their paths."""
+    """Write ``results.nc`` and ``results.csv`` (atomically, and both moved into place
+    together) and return their paths."""
     outdir = Path(outdir)
     records = read_points(outdir) if records is None else records
+    with staged():
+        return _write_results(spec, outdir, records, runner)
+
+
+def _write_results(spec, outdir: Path, records, runner) -> tuple[Path, Path]:
     ds = gather(spec, outdir, records, runner)
     nc = outdir / "results.nc"
     with atomic_path(nc) as tmp:
@@ -1028,13 +1017,35 @@ def _clean_stale_tmp(outdir: Path, age: float = 60.0) -> None:
     """Remove temporary files a killed sweep left behind (older than ``age`` seconds, so a
     write in progress elsewhere is never touched)."""
     now = time.time()
-    for folder in (outdir, outdir / "points"):
-        for f in folder.glob(".*.tmp"):
+    for folder in (outdir, outdir / "points", *sorted((outdir / "runs").glob("*"))):
+        for f in folder.glob(TMP_GLOB):
             try:
                 if now - f.stat().st_mtime > age:
                     f.unlink()
             except OSError:
                 pass
+
+
+@contextmanager
+def _sigint_ignored():
+    """Ignore SIGINT in this process while a local cluster starts its worker processes.
+
+    The workers inherit the ignored signal, so a Ctrl-C at the terminal, which goes to the
+    whole process group, is handled by this process alone: it stops the cluster and says what
+    is saved, instead of every worker printing a traceback.  (A Ctrl-C during these seconds
+    is lost; the next one works.)  Outside the main thread nothing changes."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    try:
+        old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except (ValueError, OSError):  # pragma: no cover - no signals here
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old if old is not None else signal.SIG_DFL)
 
 
 def _run_distributed(todo, make_task, finish, scheduler, n_workers, quiet):
@@ -1046,8 +1057,9 @@ def _run_distributed(todo, make_task, finish, scheduler, n_workers, quiet):
         client, own_client = scheduler, False
     elif scheduler in (None, "local", "processes"):
         n = n_workers or min(2, os.cpu_count() or 1)
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                               silence_logs=50)
+        with _sigint_ignored():  # the worker processes never see a Ctrl-C
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                                   silence_logs=50)
         client = Client(cluster)
         _say(f"local Dask cluster: {n} worker process(es)", quiet)
     elif isinstance(scheduler, str):
@@ -1117,14 +1129,31 @@ def sweep_command(path, out=None, scheduler=None, workers=None, quiet=False, jso
     """
     spec = SweepSpec.from_file(path)
     outdir = Path(out) if out else default_outdir(path)
+    before = [file_state(outdir / name) for name in ("results.nc", "results.csv")]
     try:
         res = run_sweep(spec, outdir, scheduler=scheduler or spec.scheduler, n_workers=workers or spec.workers,
                         progress=not quiet and not json_output, quiet=quiet or json_output)
     except KeyboardInterrupt:
-        saved = sum(1 for h, _ in spec.tasks() if read_points(outdir).get(h, {}).get("status") == "ok")
-        print(f"interrupted: {saved} of {len(spec)} points are saved in {outdir}; "
-              "run the same command again to compute the rest", file=sys.stderr)
+        print(interrupted_message(spec, outdir, before), file=sys.stderr, flush=True)
         return 130
     if json_output:
         print(json.dumps(res.as_dict(), indent=1))
     return res.exit_code
+
+
+def interrupted_message(spec: SweepSpec, outdir: Path, before: list) -> str:
+    """The one line ``tribobem sweep`` prints on Ctrl-C: how many points are saved (each point
+    record is whole: written atomically, as soon as the point finished) and what became of
+    results.nc / results.csv (``before``: their :func:`~tribobem.output.atomic.file_state`
+    when the sweep started)."""
+    records = read_points(outdir)
+    saved = sum(1 for h, _ in spec.tasks() if records.get(h, {}).get("status") == "ok")
+    after = [file_state(outdir / name) for name in ("results.nc", "results.csv")]
+    if after != before and None not in after:
+        results = "results.nc and results.csv are the new complete ones"
+    elif None in before:
+        results = "results.nc and results.csv were not written"
+    else:
+        results = "results.nc and results.csv are the previous complete ones, not updated"
+    rest = "run the same command again to compute the rest" if saved < len(spec) else "all points are done"
+    return f"interrupted: {saved} of {len(spec)} points are saved in {outdir} ({results}); {rest}"

@@ -1,7 +1,9 @@
 """Outputs of a run: summary.json, fields.nc, PNG figures and a self-contained report.html.
 
-Every file is written atomically (a temporary file in the same folder, then ``os.replace``),
-so an interrupted run never leaves a half-written result behind.
+Every file is written atomically (a temporary file in the same folder, fsync, then
+``os.replace``; :mod:`tribobem.output.atomic`), and the files of one result folder are moved
+into place together (:func:`~tribobem.output.atomic.staged`), so an interrupted run leaves
+the folder's previous complete files (or none), never a half-written or a mixed result.
 """
 
 from .fields import build_fields, read_fields, representative_step, write_fields
@@ -19,7 +21,8 @@ __all__ = [
 
 
 def write_outputs(outdir, summary: dict, ds=None, *, figures: bool = True, report: bool = True) -> dict:
-    """Write fields.nc (if ``ds``), the figures, report.html and summary.json into ``outdir``.
+    """Write fields.nc (if ``ds``), the figures, report.html and summary.json into ``outdir``,
+    all moved into place together at the end (:func:`~tribobem.output.atomic.staged`).
 
     Returns
     -------
@@ -28,16 +31,19 @@ def write_outputs(outdir, summary: dict, ds=None, *, figures: bool = True, repor
     """
     from pathlib import Path
 
+    from .atomic import staged
+
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     files = {}
-    if ds is not None:
-        files["fields"] = write_fields(ds, outdir / "fields.nc")
-    figs = make_figures(ds, summary, outdir) if figures else {}
-    files.update(figs)
-    if report:
-        files["report"] = write_report(outdir, summary, figs)
-    files["summary"] = write_summary(outdir / "summary.json", summary)
+    with staged():
+        if ds is not None:
+            files["fields"] = write_fields(ds, outdir / "fields.nc")
+        figs = make_figures(ds, summary, outdir) if figures else {}
+        files.update(figs)
+        if report:
+            files["report"] = write_report(outdir, summary, figs)
+        files["summary"] = write_summary(outdir / "summary.json", summary)
     return files
 
 
@@ -51,7 +57,10 @@ def replot(result_dir) -> dict:
         raise FileNotFoundError(f"result folder {result_dir} not found")
     summary = read_summary(result_dir / "summary.json")
     ds = read_fields(result_dir / "fields.nc") if (result_dir / "fields.nc").exists() else None
-    figs = make_figures(ds, summary, result_dir)
-    files = dict(figs)
-    files["report"] = write_report(result_dir, summary, figs)
+    from .atomic import staged
+
+    with staged():
+        figs = make_figures(ds, summary, result_dir)
+        files = dict(figs)
+        files["report"] = write_report(result_dir, summary, figs)
     return files

@@ -13,6 +13,7 @@ import math
 from pathlib import Path
 
 from ..units import format_quantity
+from .atomic import staged_source
 from .figures import is_hysteresis, mindlin_reference
 from .summary import atomic_write_text, jsonable
 
@@ -168,7 +169,7 @@ def _caption(name: str) -> str:
 
 
 def _img(path: Path) -> str:
-    data = base64.b64encode(Path(path).read_bytes()).decode("ascii")
+    data = base64.b64encode(staged_source(path).read_bytes()).decode("ascii")  # written in this batch
     return f"data:image/png;base64,{data}"
 
 
@@ -402,7 +403,7 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
     parts.append("</table>")
 
     fric = [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS if s.get(key) is not None]
-    figures = {k: v for k, v in (figures or {}).items() if v is not None and Path(v).exists()}
+    figures = {k: v for k, v in (figures or {}).items() if v is not None and staged_source(v).exists()}
     if is_hysteresis(s):
         parts += _hysteresis_section(s, fric, figures)
         figures = {k: v for k, v in figures.items() if not _is_hysteresis_figure(k)}

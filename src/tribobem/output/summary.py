@@ -14,11 +14,13 @@ import json
 import math
 import os
 import platform
-import tempfile
-from contextlib import contextmanager
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
+
+# The one atomic-write mechanism of the package (re-exported here, where it used to live).
+from .atomic import atomic_path, atomic_write_bytes, atomic_write_text, temp_path  # noqa: F401
 
 __all__ = ["STEP_KEYS", "REQUIRED_KEYS", "versions", "jsonable", "atomic_write_text", "atomic_write_bytes", "temp_path",
            "write_summary", "read_summary"]
@@ -51,14 +53,18 @@ def versions() -> dict:
     return out
 
 
-def jsonable(obj):
-    """``obj`` with numpy scalars/arrays turned into Python types and NaN/inf into None."""
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
+def jsonable(obj, fallback=str):
+    """``obj`` with numpy scalars/arrays turned into Python types and NaN/inf into None.
+
+    Mappings become dicts with string keys, tuples lists, path-like objects strings; any
+    other object becomes ``fallback(obj)`` (the sweep's hashes use ``repr``).
+    """
+    if isinstance(obj, Mapping):
+        return {str(k): jsonable(v, fallback) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
+        return [jsonable(v, fallback) for v in obj]
     if isinstance(obj, np.ndarray):
-        return jsonable(obj.tolist())
+        return jsonable(obj.tolist(), fallback)
     if isinstance(obj, (bool, np.bool_)):
         return bool(obj)
     if isinstance(obj, (int, np.integer)):
@@ -66,61 +72,11 @@ def jsonable(obj):
     if isinstance(obj, (float, np.floating)):
         v = float(obj)
         return v if math.isfinite(v) else None
-    if isinstance(obj, Path):
-        return str(obj)
     if obj is None or isinstance(obj, str):
         return obj
-    return str(obj)
-
-
-def _default_mode() -> int:
-    """Permissions of a new file under the current umask (mkstemp creates 0600 files)."""
-    mask = os.umask(0)
-    os.umask(mask)
-    return 0o666 & ~mask
-
-
-def temp_path(path) -> str:
-    """A new empty temporary file next to ``path`` (same folder, so ``os.replace`` is atomic),
-    with ordinary permissions."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    os.chmod(tmp, _default_mode())
-    return tmp
-
-
-@contextmanager
-def atomic_path(path):
-    """Yield a temporary path next to ``path``; on success it replaces ``path`` atomically,
-    on an exception it is removed.  The one atomic-write mechanism of the package."""
-    path = Path(path)
-    tmp = temp_path(path)
-    try:
-        yield Path(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
-def atomic_write_bytes(path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` via a temporary file in the same folder and ``os.replace``."""
-    with atomic_path(path) as tmp:
-        with open(tmp, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-    return Path(path)
-
-
-def atomic_write_text(path, text: str) -> Path:
-    """UTF-8 text version of :func:`atomic_write_bytes`."""
-    return atomic_write_bytes(path, text.encode("utf-8"))
+    if isinstance(obj, os.PathLike):
+        return os.fspath(obj)
+    return fallback(obj)
 
 
 def write_summary(path, summary: dict) -> Path:

@@ -10,6 +10,7 @@ figures and the report.  A kind the schema accepts but that has no runner raises
 from __future__ import annotations
 
 import datetime as _dt
+import os
 import time
 import tomllib
 import warnings
@@ -185,6 +186,26 @@ class _Callback:
         pass
 
 
+class _PauseHook:
+    """Tests only (``TRIBOBEM_TEST_PAUSE=solve[@N]=SECONDS``, see :mod:`tribobem.output.atomic`):
+    the progress handler, paused after the first step of a solve so that a test can send a
+    real SIGINT while the run is demonstrably solving."""
+
+    def __init__(self, bar):
+        self.bar, self.first = bar, True
+
+    def __getattr__(self, name):
+        return getattr(self.bar, name)
+
+    def __call__(self, done, total):
+        self.bar(done, total)
+        if self.first:
+            self.first = False
+            from ..output.atomic import pause_hook
+
+            pause_hook("solve")
+
+
 def _progress_handler(progress, quiet: bool):
     if callable(progress):
         return _Callback(progress)
@@ -231,7 +252,7 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     t_build = time.perf_counter()
 
     with _progress_handler(progress, quiet) as bar:
-        out = runner(pb, bar)
+        out = runner(pb, _PauseHook(bar) if os.environ.get("TRIBOBEM_TEST_PAUSE") else bar)
         bar.finish()
     t_solve = time.perf_counter()
 
@@ -328,18 +349,21 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     out_path = None
     if outdir is not None:
         from ..output import write_outputs
+        from ..output.atomic import staged
+        from ..output.summary import write_summary
 
         out_path = Path(outdir)
         t_out = time.perf_counter()
         summary["timings"]["output"] = 0.0
         summary["timings"]["total"] = t_out - t0
-        files = write_outputs(out_path, summary, ds if keep != "none" else None,
-                              figures=sc.output.figures, report=sc.output.report)
-        summary["timings"]["output"] = time.perf_counter() - t_out
-        summary["timings"]["total"] = time.perf_counter() - t0
-        from ..output.summary import write_summary
-
-        files["summary"] = write_summary(out_path / "summary.json", summary)
+        # Every file goes to a temporary file first and all move into place together at the
+        # end: a Ctrl-C leaves the folder's previous complete files (or none), never a mix.
+        with staged():
+            files = write_outputs(out_path, summary, ds if keep != "none" else None,
+                                  figures=sc.output.figures, report=sc.output.report)
+            summary["timings"]["output"] = time.perf_counter() - t_out
+            summary["timings"]["total"] = time.perf_counter() - t0
+            files["summary"] = write_summary(out_path / "summary.json", summary)
     else:
         summary["timings"]["total"] = time.perf_counter() - t0
     return RunResult(summary=summary, fields=ds, outdir=out_path, files=files, problem=pb,
