@@ -33,7 +33,7 @@ def test_public_names_stay_where_they_were():
 
 
 def test_tangential_results_travel_with_the_selected_fields(monkeypatch):
-    """A runner's optional "tangential" list is selected together with "results" and handed to
+    """A runner's optional ``tangential`` list is selected together with "results" and handed to
     build_fields; the normal kinds pass nothing."""
     import tribobem.output.fields as fields_module
     from tribobem.runs import normal
@@ -48,7 +48,7 @@ def test_tangential_results_travel_with_the_selected_fields(monkeypatch):
 
     def with_tangential(pb, bar):
         out = normal.run(pb, bar)
-        out["tangential"] = [f"T{i}" for i in range(len(out["results"]))]
+        out.tangential = [f"T{i}" for i in range(len(out.results))]
         return out
 
     monkeypatch.setattr(fields_module, "build_fields", spy)
@@ -118,3 +118,14 @@ def test_solver_method_normcg_elsewhere_is_a_scenario_error(kind):
     with pytest.raises(ScenarioError, match=f"kind = '{kind}' does not use it \\(used by kind 'normal'\\)") as exc:
         parse_scenario(sc)
     assert exc.value.field == "solver.method"
+
+
+def test_run_output_checks_alignment():
+    """A runner's results, labels, indices and tangential states are aligned one-to-one."""
+    from tribobem.runs import RunOutput
+
+    RunOutput(rows=[], results=[1, 2], labels=["a", "b"], indices=[0, 1], run={})
+    with pytest.raises(ValueError, match="aligned"):
+        RunOutput(rows=[], results=[1, 2], labels=["a"], indices=[0, 1], run={})
+    with pytest.raises(ValueError, match="tangential"):
+        RunOutput(rows=[], results=[1, 2], labels=["a", "b"], indices=[0, 1], run={}, tangential=["t"])

@@ -7,22 +7,8 @@ scenario is consistent; it has no per-kind branch.
 
 A runner is called as ``runner(pb, bar)`` with the built
 :class:`~tribobem.scenario.build.Problem` and a progress handler (``bar.phase(description,
-total)``, ``bar(done, total)``), and returns a dict with the keys
-
-``rows``
-    summary.json steps (dicts of scalars, each with a ``branch``);
-``results``
-    the results whose fields go to fields.nc (NormalResult);
-``labels``, ``indices``
-    a label per result and its index in ``rows`` (-1: not a row);
-``curve``
-    a LoadCurve or None;
-``run``
-    run-level scalars for summary.json;
-``tangential`` (optional)
-    a list of :class:`~tribobem.results.TangentialResult`, one per entry of ``results``;
-``warnings`` (optional)
-    messages for summary.json ``warnings`` and the report's banner.
+total)``, ``bar(done, total)``), and returns a :class:`~tribobem.runs.kind.RunOutput` (steps,
+states for fields.nc, run-level values, warnings).
 
 A new kind is a new module here defining ``run(pb, bar)`` and ``KIND`` and ONE line in
 :data:`KINDS`.  Nothing in this package imports :mod:`tribobem.scenario` (the schema imports
@@ -35,12 +21,12 @@ from importlib import import_module
 from typing import Callable
 
 from ..errors import InputError
-from .kind import RunKind
+from .kind import RunKind, RunOutput
 
-__all__ = ["KINDS", "RUNNERS", "RunKind", "Runner", "get_runner", "get_kind", "available_kinds", "NotImplementedKindError"]
+__all__ = ["KINDS", "RUNNERS", "RunKind", "RunOutput", "Runner", "get_runner", "get_kind", "available_kinds", "NotImplementedKindError"]
 
-#: ``runner(pb: Problem, bar) -> dict``
-Runner = Callable[..., dict]
+#: ``runner(pb: Problem, bar) -> RunOutput``
+Runner = Callable[..., RunOutput]
 
 
 class NotImplementedKindError(InputError):

@@ -34,7 +34,7 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from .common import solve_kw
-from .kind import ALL, RunKind, fail, require_humidity
+from .kind import ALL, RunKind, RunOutput, fail, require_humidity
 
 __all__ = ["run", "check", "KIND", "films_at", "capillary_options", "capillary_row", "step_maps", "STEP_FIELDS"]
 
@@ -140,12 +140,12 @@ def _film_notes(rh, f1, f2) -> list[str]:
     return [f"RH {rh:g}, film on body{i}: {f.message}" for i, f in ((1, f1), (2, f2)) if not f.converged]
 
 
-def run(pb, bar) -> dict:
+def run(pb, bar) -> RunOutput:
     """Run a ``capillary`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
-    Returns the runner dict (rows, results, labels, indices, curve, run, warnings, plus
-    ``step_fields``: per-RH maps aligned with ``results``, and ``representative``: the index
-    of the RH with the most tensile capillary force, the state ``output.fields = "last"`` keeps).
+    Returns its :class:`~tribobem.runs.kind.RunOutput`, with ``step_fields`` (per-RH maps
+    aligned with ``results``) and ``representative`` (the index of the RH with the most tensile
+    capillary force, the state ``output.fields = "last"`` keeps).
     """
     from ..solvers.capillary import solve_capillary
 
@@ -190,12 +190,12 @@ def run(pb, bar) -> dict:
     ipk = int(np.nanargmin(fcap)) if np.any(np.isfinite(fcap)) else 0
     run_level = {"peak_capillary_force": float(fcap[ipk]), "peak_capillary_rh": float(rows[ipk]["rh"]),
                  "load_control": "force" if load.force is not None else "approach"}
-    return {"rows": rows, "results": results, "labels": labels, "indices": list(range(n)), "curve": None,
-            "run": run_level, "warnings": notes, "representative": ipk,
-            "step_coords": {"rh": ([r["rh"] for r in rows], {"units": "1", "long_name": "relative humidity"}),
-                            "capillary_pressure": ([r["capillary_pressure"] for r in rows],
-                                                   {"units": "Pa", "long_name": "applied capillary pressure"})},
-            "step_fields": {name: (maps[name], STEP_FIELDS[name][1]) for name in STEP_FIELDS}}
+    return RunOutput(rows=rows, results=results, labels=labels, indices=list(range(n)), run=run_level,
+                     warnings=notes, representative=ipk,
+                     step_coords={"rh": ([r["rh"] for r in rows], {"units": "1", "long_name": "relative humidity"}),
+                                  "capillary_pressure": ([r["capillary_pressure"] for r in rows],
+                                                         {"units": "Pa", "long_name": "applied capillary pressure"})},
+                     step_fields={name: (maps[name], STEP_FIELDS[name][1]) for name in STEP_FIELDS})
 
 
 def check(sc) -> None:

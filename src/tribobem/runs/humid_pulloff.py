@@ -37,6 +37,7 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from .capillary import STEP_FIELDS, capillary_options, capillary_row, films_at, step_maps
 from .common import solve_kw
+from .kind import RunOutput
 
 __all__ = ["run", "humid_pull_off"]
 
@@ -141,11 +142,11 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
             "all_converged": bad == 0}
 
 
-def run(pb, bar) -> dict:
+def run(pb, bar) -> RunOutput:
     """Run a ``pulloff`` scenario with ``[humidity]`` on its built Problem (module docstring).
 
-    Returns the runner dict (rows, results, labels, indices, curve, run, warnings, step_fields,
-    step_coords, representative).
+    Returns its :class:`~tribobem.runs.kind.RunOutput` (with ``step_fields``, ``step_coords`` and
+    the ``representative`` RH: the most tensile pull-off).
     """
     sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
     kw = solve_kw(sc)
@@ -180,7 +181,7 @@ def run(pb, bar) -> dict:
                  "preload_source": "load.preload" if load.preload is not None else ZERO_LOAD,
                  "unloading_curves": curves}
     ipk = int(np.argmin(forces)) if forces else 0
-    return {"rows": rows, "results": results, "labels": labels, "indices": list(range(n)), "curve": None,
-            "run": run_level, "warnings": notes, "representative": ipk,
-            "step_fields": {name: (maps[name], STEP_FIELDS[name][1]) for name in STEP_FIELDS},
-            "step_coords": {"rh": ([r["rh"] for r in rows], {"units": "1", "long_name": "relative humidity"})}}
+    return RunOutput(rows=rows, results=results, labels=labels, indices=list(range(n)), run=run_level,
+                     warnings=notes, representative=ipk,
+                     step_fields={name: (maps[name], STEP_FIELDS[name][1]) for name in STEP_FIELDS},
+                     step_coords={"rh": ([r["rh"] for r in rows], {"units": "1", "long_name": "relative humidity"})})

@@ -22,7 +22,7 @@ import numpy as np
 from ..errors import InputError
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
 from .common import solve_kw
-from .kind import RunKind, fail, positive_normal_load, require_friction
+from .kind import RunKind, RunOutput, fail, positive_normal_load, require_friction
 
 __all__ = ["run", "check", "KIND", "lateral_stiffness_fit", "STIFFNESS_POINTS"]
 
@@ -104,7 +104,7 @@ def _stiffness_table(rows, run, mu, f0p, radius, k_compliance):
     return table, {"c1": c1, "c2": c2, "n": n}
 
 
-def run(pb, bar) -> dict:
+def run(pb, bar) -> RunOutput:
     """Run a ``hysteresis`` scenario on its built :class:`~tribobem.scenario.build.Problem`."""
     sc = pb.scenario
     fr, load = sc.friction, sc.load
@@ -208,8 +208,8 @@ def run(pb, bar) -> dict:
             "accumulated_slip": (res.accumulated_slip[1:], {"units": "m", "long_name": "accumulated slip length per "
                                                             "cycle (sum of |ds|)"}),
         }
-    return {"rows": rows, "results": results, "tangential": tangential, "labels": labels, "indices": keep,
-            "curve": None, "run": run_level, "cycle_fields": cycle_fields}
+    return RunOutput(rows=rows, results=results, tangential=tangential, labels=labels, indices=keep,
+                     run=run_level, cycle_fields=cycle_fields)
 
 
 def check(sc) -> None:

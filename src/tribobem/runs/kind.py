@@ -21,7 +21,7 @@ from typing import Any, Callable, Mapping, Optional, Union
 
 from ..errors import InputError
 
-__all__ = ["ALL", "SECTIONS", "BODY_KEYS", "COMMON", "RunKind", "fail"]
+__all__ = ["ALL", "SECTIONS", "BODY_KEYS", "COMMON", "RunKind", "RunOutput", "fail"]
 
 #: A section whose every key the kind reads.
 ALL = "*"
@@ -45,6 +45,62 @@ COMMON: dict[str, Union[str, frozenset]] = {
 }
 
 
+@dataclass
+class RunOutput:
+    """What a runner returns: the states it computed and the numbers for summary.json.
+
+    Attributes
+    ----------
+    rows : list of dict
+        summary.json ``steps``: scalars per step (SI units), each with a ``branch``.
+    results : list
+        The states whose fields go to fields.nc (:class:`~tribobem.results.NormalResult`).
+    labels : list of str
+        A label per entry of ``results``.
+    indices : list of int
+        The index in ``rows`` of each entry of ``results`` (-1: not a row, e.g. a refined onset).
+    run : dict
+        Run-level values for summary.json (SI units).
+    curve : LoadCurve, optional
+        The force-approach curve, for its jumps (normal and pull-off runs).
+    tangential : list, optional
+        :class:`~tribobem.results.TangentialResult` per entry of ``results`` (tangential kinds).
+    warnings : list of str
+        Messages for summary.json ``warnings`` and the report's banner.
+    cycle_fields : dict
+        name -> (maps per cycle, attributes): fields.nc variables on (cycle, x, y).
+    step_fields : dict
+        name -> (maps per result, attributes): fields.nc variables on (step, x, y).
+    step_coords : dict
+        name -> (values per result, attributes): fields.nc coordinates on step.
+    representative : int, optional
+        The entry of ``results`` that ``output.fields = "last"`` keeps (default: pull-off, onset
+        or the largest load).
+    """
+
+    rows: list
+    results: list
+    labels: list
+    indices: list
+    run: dict
+    curve: Any = None
+    tangential: Optional[list] = None
+    warnings: list = field(default_factory=list)
+    cycle_fields: dict = field(default_factory=dict)
+    step_fields: dict = field(default_factory=dict)
+    step_coords: dict = field(default_factory=dict)
+    representative: Optional[int] = None
+
+    def __post_init__(self):
+        n = len(self.results)
+        if len(self.labels) != n or len(self.indices) != n:
+            raise ValueError(f"a runner returned {n} results with {len(self.labels)} labels and "
+                             f"{len(self.indices)} indices (they must be aligned one-to-one)")
+        if self.tangential and len(self.tangential) != n:
+            raise ValueError(f"a runner returned {len(self.tangential)} tangential results for {n} results "
+                             "(they must be aligned one-to-one)")
+
+
 def fail(key: str, message: str):
     """Raise the :class:`~tribobem.errors.InputError` of a kind's rule on scenario key ``key``
     (dotted from the top, e.g. ``"load.force"``)."""
@@ -64,7 +120,7 @@ class RunKind:
     name : str
         The scenario's ``kind``.
     run : callable
-        ``run(pb, bar) -> dict``: the runner (:mod:`tribobem.runs`).
+        ``run(pb, bar) -> RunOutput``: the runner (:mod:`tribobem.runs`).
     uses : mapping
         Section -> the keys of that section the kind reads (an iterable of names) or
         :data:`ALL`, on top of :data:`COMMON`.  A section missing from both is not read at all.
@@ -79,7 +135,7 @@ class RunKind:
     """
 
     name: str
-    run: Callable[..., dict]
+    run: Callable[..., "RunOutput"]
     uses: Mapping[str, Any] = field(default_factory=dict)
     check: Optional[Callable[[Any], None]] = None
     hints: Mapping[str, str] = field(default_factory=dict)

@@ -13,15 +13,15 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from .common import solve_kw, step_row
-from .kind import RunKind, fail, positive_normal_load
+from .kind import RunKind, RunOutput, fail, positive_normal_load
 
 __all__ = ["run", "check", "KIND"]
 
 
-def run(pb, bar) -> dict:
+def run(pb, bar) -> RunOutput:
     """Run a ``normal`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
-    Returns the runner dict (rows, results, labels, indices, curve, run).
+    Returns its :class:`~tribobem.runs.kind.RunOutput`.
     """
     from ..solvers.normal import solve_normal
     from ..solvers.paths import approach_curve, force_curve
@@ -29,7 +29,7 @@ def run(pb, bar) -> dict:
     sc, load = pb.scenario, pb.scenario.load
     kw = dict(solve_kw(sc), method=sc.solver.method)
     inter = pb.interaction
-    out: dict = {"run": {}}
+    run_level: dict = {}
     if load.force is not None or load.approach is not None:
         bar.phase("solving", 1)
         with warnings.catch_warnings():
@@ -39,8 +39,8 @@ def run(pb, bar) -> dict:
             else:
                 res = solve_normal(pb.operator, pb.gap, approach=load.approach, interaction=inter, **kw)
         bar(1, 1)
-        out.update(rows=[step_row(res, "loading")], results=[res], labels=["loading 0"], indices=[0], curve=None)
-        return out
+        return RunOutput(rows=[step_row(res, "loading")], results=[res], labels=["loading 0"], indices=[0],
+                         run=run_level)
     unload = bool(load.unload)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
@@ -60,12 +60,12 @@ def run(pb, bar) -> dict:
         counters[r["branch"]] = k + 1
         labels.append(f"{r['branch']} {k}")
     if inter is not None and np.any(curve.converged) and np.nanmin(curve.force) < 0:
-        out["run"]["pull_off_force"] = curve.pull_off_force
-        out["run"]["pull_off_approach"] = curve.pull_off_approach
+        run_level["pull_off_force"] = curve.pull_off_force
+        run_level["pull_off_approach"] = curve.pull_off_approach
     if unload:
-        out["run"]["hysteresis_energy"] = curve.hysteresis_energy
-    out.update(rows=rows, results=list(curve.results), labels=labels, indices=list(range(len(rows))), curve=curve)
-    return out
+        run_level["hysteresis_energy"] = curve.hysteresis_energy
+    return RunOutput(rows=rows, results=list(curve.results), labels=labels, indices=list(range(len(rows))),
+                     run=run_level, curve=curve)
 
 
 def check(sc) -> None:

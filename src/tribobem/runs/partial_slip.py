@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InputError
 from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
 from .common import solve_kw
-from .kind import RunKind, fail, positive_normal_load, require_friction
+from .kind import RunKind, RunOutput, fail, positive_normal_load, require_friction
 
 __all__ = ["run", "check", "KIND"]
 
@@ -48,7 +48,7 @@ def _row(res, branch: str, mu: float, e) -> dict:
     return row
 
 
-def run(pb, bar) -> dict:
+def run(pb, bar) -> RunOutput:
     """Run a ``partial_slip`` scenario on its built :class:`~tribobem.scenario.build.Problem`."""
     sc = pb.scenario
     fr, load = sc.friction, sc.load
@@ -58,17 +58,16 @@ def run(pb, bar) -> dict:
                  "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE}
     theta = math.radians(fr.direction)
     e = (math.cos(theta), math.sin(theta))
-    out: dict = {"run": {"friction_coefficient": mu, "slip": fr.slip, "direction": fr.direction}}
+    run_level: dict = {"friction_coefficient": mu, "slip": fr.slip, "direction": fr.direction}
     if load.forces is not None:  # check() paired it with tangential_forces only
         bar.phase("normal steps", len(load.forces))
         steps = normal_path(pb.operator, pb.gap, normal_forces=load.forces, friction_coefficient=mu,
                             tangential_forces=fr.tangential_forces, direction=fr.direction,
                             interaction=pb.interaction, slip=fr.slip, progress=bar, **solver_kw)
         rows = [_row(r, "normal_path", mu, e) for r in steps]
-        out.update(rows=rows, results=[r.normal for r in steps], tangential=[r.tangential for r in steps],
-                   labels=[f"normal_path {k}" for k in range(len(steps))], indices=list(range(len(steps))),
-                   curve=None)
-        return out
+        return RunOutput(rows=rows, results=[r.normal for r in steps], tangential=[r.tangential for r in steps],
+                         labels=[f"normal_path {k}" for k in range(len(steps))], indices=list(range(len(steps))),
+                         run=run_level)
 
     forces = fr.tangential_forces
     displacements = fr.tangential_displacements
@@ -81,7 +80,6 @@ def run(pb, bar) -> dict:
                            slip=fr.slip, refine_tol=ONSET_TOLERANCE, progress=bar, **solver_kw)
     steps = list(ramp.steps)
     rows = [_row(r, "ramp", mu, e) for r in steps]
-    run_level = out["run"]
     run_level["gross_slip"] = bool(ramp.gross_slip)
     run_level["ramp_message"] = ramp.message
     if ramp.gross_slip and ramp.onset_state is not None:
@@ -121,8 +119,8 @@ def run(pb, bar) -> dict:
         z = ramp.zero_state
         rows = [_row(z, "zero_force", mu, e)]
         results, tangential, labels, indices = [z.normal], [z.tangential], ["zero force"], [0]
-    out.update(rows=rows, results=results, tangential=tangential, labels=labels, indices=indices, curve=None)
-    return out
+    return RunOutput(rows=rows, results=results, tangential=tangential, labels=labels, indices=indices,
+                     run=run_level)
 
 
 def check(sc) -> None:

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from .common import curve_from_rows, offset_progress, solve_kw
-from .kind import ALL, RunKind, fail, require_humidity
+from .kind import ALL, RunKind, RunOutput, fail, require_humidity
 
 __all__ = ["run", "check", "KIND"]
 
@@ -26,10 +26,10 @@ __all__ = ["run", "check", "KIND"]
 ZERO_LOAD = "zero external load (adhesive equilibrium at F = 0)"
 
 
-def run(pb, bar) -> dict:
+def run(pb, bar) -> RunOutput:
     """Run a ``pulloff`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
-    Returns the runner dict (rows, results, labels, indices, curve, run, warnings).
+    Returns its :class:`~tribobem.runs.kind.RunOutput`.
     """
     from ..solvers.paths import approach_curve, pull_off
 
@@ -79,8 +79,8 @@ def run(pb, bar) -> dict:
         run["hysteresis_energy"] = curve.hysteresis_energy
     # index of the preload state in the steps: the first unloading row
     idx_pre = n_loading if len(rows) > n_loading else -1
-    return {"rows": rows, "results": [start, at], "labels": ["preload", "pull-off"], "indices": [idx_pre, -1],
-            "curve": curve, "run": run, "warnings": list(po.notes)}
+    return RunOutput(rows=rows, results=[start, at], labels=["preload", "pull-off"], indices=[idx_pre, -1],
+                     curve=curve, run=run, warnings=list(po.notes))
 
 
 #: Load keys of the pull-off (the humid one honours control and loading only at their

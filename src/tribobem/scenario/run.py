@@ -256,18 +256,18 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         bar.finish()
     t_solve = time.perf_counter()
 
-    rows = out["rows"]
+    rows = out.rows
     for i, r in enumerate(rows):
         r["index"] = i
     converged = bool(rows) and all(bool(r.get("converged")) for r in rows)
-    warns = list(pb.warnings) + list(out.get("warnings", []))
+    warns = list(pb.warnings) + list(out.warnings)
     from ..output.checks import result_warnings
 
     # Numbers the grid cannot back (edge contact, unresolved cohesive zone, ...): on the states
     # the runner returned (before any fields selection).
-    warns += result_warnings(out.get("results") or [], periodic=pb.grid.periodic, interaction=pb.interaction,
-                             radius=pb.info.get("radius"), tangential=out.get("tangential"),
-                             files=pb.info.get("files"), gross_slip=out["run"].get("gross_slip"))
+    warns += result_warnings(out.results, periodic=pb.grid.periodic, interaction=pb.interaction,
+                             radius=pb.info.get("radius"), tangential=out.tangential,
+                             files=pb.info.get("files"), gross_slip=out.run.get("gross_slip"))
     if not converged:
         bad = [i for i, r in enumerate(rows) if not r.get("converged")]
         where = ", ".join(str(i) for i in bad[:10]) + (", ..." if len(bad) > 10 else "")
@@ -276,7 +276,7 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
                "their state; see summary.json steps")
         warns.append(msg)
         warnings.warn(msg, ConvergenceWarning, stacklevel=2)
-    curve = out.get("curve")
+    curve = out.curve
 
     from ..output.summary import versions
 
@@ -287,7 +287,7 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         "versions": versions(),
         "timings": {"build": t_build - t0, "solve": t_solve - t_build},
         "steps": rows,
-        **out["run"],
+        **out.run,
         "jumps": [dict(j) for j in curve.jumps] if curve is not None else [],
         "problem": pb.info,
         "warnings": warns,
@@ -301,18 +301,15 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
 
     # fields
     keep = sc.output.fields
-    results, labels, indices = out["results"], out["labels"], out["indices"]
-    tangential = list(out.get("tangential") or [])
-    if tangential and len(tangential) != len(results):
-        raise RuntimeError(f"the {sc.kind!r} runner returned {len(tangential)} tangential results for "
-                           f"{len(results)} results (they must be aligned one-to-one)")
+    results, labels, indices = out.results, out.labels, out.indices  # aligned (RunOutput checks it)
+    tangential = list(out.tangential or [])
     sel = list(range(len(results)))  # the runner's results kept in fields.nc
     if keep == "last" and len(results) > 1:
         # The state a user looks for: the runner's representative one (e.g. the RH of the peak
         # capillary force), the pull-off, the gross-slip onset, else the largest load.
         named = [name for name in ("pull-off", "onset") if name in labels]
-        if out.get("representative") is not None:
-            sel = [int(out["representative"])]
+        if out.representative is not None:
+            sel = [int(out.representative)]
         elif named:
             sel = [labels.index(named[0])]
         else:
@@ -331,15 +328,15 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
                       roughness2=pb.roughness2 if sc.body2.roughness.kind != "none" else None,
                       summary_steps=indices, attrs=attrs,
                       **({"tangential": tangential} if tangential else {}))
-    for name, (maps, attrs_v) in (out.get("cycle_fields") or {}).items():
+    for name, (maps, attrs_v) in out.cycle_fields.items():
         # Per-cycle maps of a run (e.g. frictional dissipation, accumulated slip): dims (cycle, x, y).
         ds[name] = (("cycle", "x", "y"), np.stack([np.asarray(m, dtype=float) for m in maps]), attrs_v)
-    for name, (maps, attrs_v) in (out.get("step_fields") or {}).items():
+    for name, (maps, attrs_v) in out.step_fields.items():
         # Per-step maps of a run (e.g. the films and meniscus islands of each RH of a capillary
         # run), aligned with its results: dims (step, x, y), selected with them.
         if sel:
             ds[name] = (("step", "x", "y"), np.stack([np.asarray(maps[i]) for i in sel]), attrs_v)
-    for name, (values, attrs_v) in (out.get("step_coords") or {}).items():
+    for name, (values, attrs_v) in out.step_coords.items():
         # Per-step scalars of a run as coordinates (e.g. the RH of each capillary step).
         ds = ds.assign_coords({name: ("step", np.asarray([values[i] for i in sel], dtype=float), attrs_v)})
     if "cycle" in ds.dims:
