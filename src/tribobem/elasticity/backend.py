@@ -315,7 +315,16 @@ def work_buffers(owner) -> dict:
 
 @lru_cache(maxsize=None)
 def get_backend(name: str = "numpy") -> Backend:
-    """The backend called ``name`` ("numpy" or "cupy"); raises if CuPy is unusable."""
+    """The backend called ``name`` ("numpy" or "cupy"); raises if CuPy is unusable.
+
+    ``"strict"`` is the testing backend of :mod:`tribobem.elasticity.strict` (NumPy underneath,
+    CuPy's host/device rules: a host array reaching the device array module fails without a
+    GPU); scenarios do not offer it.
+    """
+    if name == "strict":
+        from .strict import strict_backend
+
+        return strict_backend()
     if name not in ("numpy", "cupy"):
         from ..errors import InputError
 

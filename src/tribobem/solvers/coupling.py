@@ -210,7 +210,8 @@ def solve_coupled(
                 except GrossSlipError:
                     pre = None  # the predicted pressure cannot carry the force: start from the warm start
                 if pre is not None:
-                    shear, stick, predicted = pre.shear, pre.stick, xp.asarray(p_pred)
+                    # on the host, as the pressures of the normal results it is compared with
+                    shear, stick, predicted = pre.shear, pre.stick, operator.backend.to_numpy(p_pred)
                     s_scale = pre.info["slip_scale"]
             uz = top.normal_from_shear(xp.asarray(shear[0]), xp.asarray(shear[1]))
     history: list[float] = []

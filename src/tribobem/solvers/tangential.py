@@ -710,6 +710,15 @@ def _project(xp, q, bound):
     return over
 
 
+def _less_delta(s, delta):
+    """``s - delta[:, None]``, in place on the fresh (2, n) array ``s``: the host 2-vector
+    ``delta`` (the rigid shift) enters as two scalars, not as an array copied to the device
+    every iteration."""
+    s[0] -= delta[0]
+    s[1] -= delta[1]
+    return s
+
+
 def _dot(a, b) -> float:
     return float((a * b).sum())
 
@@ -920,7 +929,7 @@ class _Tangential:
         L = self.L
         grad = self.Ky + self.v0
         if not self.force_control:
-            grad = grad - xp.asarray(self.delta)[:, None]
+            _less_delta(grad, self.delta)
         z = self.y - grad / L
         if self.force_control:
             q_new = self._project_force(z)
@@ -962,7 +971,7 @@ class _Tangential:
     def _complementarity(self):
         """rms over C+ of the violated part of the stick/slip conditions (m)."""
         xp = self.xp
-        s = self.Kq + self.v0 - xp.asarray(self.delta)[:, None]
+        s = _less_delta(self.Kq + self.v0, self.delta)
         stick = self.stick
         viol = xp.zeros(self.n)
         if bool(stick.any()):
@@ -1036,7 +1045,7 @@ class _TangCG:
 
     def _exact(self, recompute: bool = True):
         """Exact K q (``recompute=False``: the state's K q is already exact), delta and slip s."""
-        st, xp = self.st, self.xp
+        st = self.st
         if recompute:
             st.Kq = st._apply(st.q)
             st.n_apply += 1
@@ -1045,7 +1054,7 @@ class _TangCG:
             if not bool(self.stick.any()):
                 return None
             st.delta = np.array([float(s_raw[0][self.stick].mean()), float(s_raw[1][self.stick].mean())])
-        return s_raw - xp.asarray(st.delta)[:, None]
+        return _less_delta(s_raw, st.delta)
 
     def run(self, max_iterations: int, stall: int, history: list):
         st, xp = self.st, self.xp
