@@ -9,10 +9,11 @@ from typer.testing import CliRunner
 
 from tribobem.cli import app
 
+from tribobem.data import topography_path
+
 REPO = Path(__file__).resolve().parents[1]
-DATA_DIR = Path(os.environ.get("TRIBOBEM_DATA_DIR") or REPO.parent / "shared/data/topographies")
-PARK = DATA_DIR / "example_ps.tiff"
-needs_park = pytest.mark.skipif(not PARK.is_file(), reason="shared topography folder not present")
+#: The measured Park AFM scan shipped with tribobem (tribobem.data; no skip: it is always there).
+PARK = topography_path("example_ps.tiff")
 EXAMPLES = sorted((REPO / "examples").glob("*.toml"))
 
 runner = CliRunner()
@@ -52,10 +53,9 @@ def test_demo_small(tmp_path):
     assert len(line) == 1 and "Maugis-Dugdale" in line[0] and "NOT resolved" in line[0]
 
 
-def test_demo_needs_no_input_files(monkeypatch):
+def test_demo_needs_no_input_files():
     import tribobem.cli as cli
 
-    monkeypatch.setattr(cli, "find_data_dir", lambda: None)
     sc, where = cli.demo_scenario()
     assert "roughness" not in sc["body1"] and "roughness" not in sc["body2"]
     from tribobem.scenario import parse_scenario
@@ -154,14 +154,13 @@ def test_unreadable_topography_exits_2(tmp_path):
     assert "bad.tiff" in msg
 
 
-@needs_park
 def test_info_on_the_park_scan():
     r = invoke("info", PARK, "--json")
     assert r.exit_code == 0, r.output
     d = json.loads(r.stdout)
     assert d["grid"] == [512, 512]
     assert d["physical_size"][0] == pytest.approx(1e-6)
-    assert d["rms_height"] == pytest.approx(3.933e-9, rel=0.01)  # shared/data README
+    assert d["rms_height"] == pytest.approx(3.933e-9, rel=0.01)  # tribobem/data/topographies/README.md
     assert d["rms_slope"] == pytest.approx(0.385, rel=0.05)
     for key in ("skewness", "kurtosis", "correlation_length", "unit"):
         assert key in d
@@ -213,18 +212,31 @@ def test_validate_table_json_and_exit_codes(fake_validation):
     assert fake_validation["calls"][-1] == {"level": "full", "cases": None, "physics": None}
 
 
-def test_validate_ci_tier_by_physics(fake_validation):
+def test_validate_ci_tier_by_physics(fake_validation, monkeypatch):
+    import sys
+    import time
+
     r = invoke("validate", "--ci", "--physics", "adhesion", "--physics", "studies", "--case", "guduru")
     assert r.exit_code == 0 and "tribobem validation (ci: adhesion, studies)" in r.output
     assert fake_validation["calls"][-1] == {"level": "ci", "cases": ["guduru"], "physics": ["adhesion", "studies"]}
+    # the reported times are those of the validation run: let the fake burn 0.2 s of CPU
+    mod = sys.modules["tribobem.validation"]
+    fake = mod.run_validation
+
+    def busy(**kw):
+        c0 = time.process_time()
+        while time.process_time() - c0 < 0.2:
+            pass
+        return fake(**kw)
+
+    monkeypatch.setattr(mod, "run_validation", busy)
     d = json.loads(runner.invoke(app, ["validate", "--ci", "--json"]).stdout)
-    assert d["level"] == "ci" and d["passed"] and d["cpu_time"] >= 0
+    assert d["level"] == "ci" and d["passed"]
+    assert 0.2 <= d["cpu_time"] < 5 and 0.1 < d["wall_time"] < 5
 
 
 @pytest.mark.parametrize("example", EXAMPLES, ids=[e.stem for e in EXAMPLES])
 def test_every_example_runs(example):
-    if "shared/data" in example.read_text() and not PARK.is_file():
-        pytest.skip("shared topography folder not present")
     from tribobem.scenario import run_scenario
 
     r = run_scenario(example, outdir=None, progress=False)

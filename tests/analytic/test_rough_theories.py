@@ -115,7 +115,9 @@ def test_persson_G_tabulated_callable_and_closed_form():
     assert persson_G(q, C, ES, q_upper=20 * qL) == pytest.approx(
         persson_self_affine_G(ES, C0, H, q0, qL, 20 * qL), rel=1e-5)
     Gc = persson_G(q, C, ES, cumulative=True)
-    assert Gc[0] == 0 and Gc[-1] == pytest.approx(G_closed, rel=1e-5) and np.all(np.diff(Gc) >= 0)
+    assert Gc[0] == 0 and Gc[-1] == pytest.approx(G_closed, rel=1e-5) and np.all(np.diff(Gc) > 0)
+    # ... and on the way: the partial band up to zeta = 20
+    assert np.interp(20 * qL, q, Gc) == pytest.approx(persson_self_affine_G(ES, C0, H, q0, qL, 20 * qL), rel=1e-5)
     # contact area from the PSD parameters equals the rms-slope route with h'^2 = 8 G / E*^2
     slope = np.sqrt(8 * G_closed) / ES
     a1 = persson_area_self_affine(1e6, ES, rms=3e-9, hurst=H, q0=q0, qL=qL, q1=q1)

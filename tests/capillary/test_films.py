@@ -209,10 +209,14 @@ def test_thin_film_conserves_volume_on_rough_surfaces():
     for disjoining, duration in ((False, 3e-4), (True, 100.0)):
         r = film_thickness(h, g, SIO2, 0.5, mode="thin_film", disjoining=disjoining, duration=duration)
         assert r.volume_error <= 1e-10 and r.mean_thickness == pytest.approx(SIO2.thickness(0.5), rel=1e-10)
-        assert np.all(r.thickness >= 0.0)
         assert r.converged
         if not disjoining:
             assert r.clipped > 0 and r.thickness.min() == 0.0
+        else:
+            # the disjoining pressure keeps a film everywhere: nothing clipped (the solver clips
+            # negative films to 0, so thickness >= 0 alone could not fail); measured min 0.94 mean
+            assert r.clipped == 0 and "went negative" not in r.message
+            assert r.thickness.min() > 0.5 * r.mean_thickness
     g2 = Grid.square(16, 100e-9, periodic=False)
     h2 = gaussian_surface(Grid.square(16, 100e-9, periodic=True), 1e-9, 30e-9, seed=4)
     r2 = film_thickness(h2, g2, SIO2, 0.5, mode="thin_film", disjoining=True, time=r.time)
@@ -228,7 +232,9 @@ def test_thin_film_without_disjoining_pressure_drains_the_peaks():
     for duration in (0.1, 1.0):
         r = film_thickness(h, g, SIO2, rh, mode="thin_film", duration=duration)
         assert r.converged and "no steady state" in r.message
-        assert r.volume_error <= 1e-10 and r.thickness.min() >= 0.0
+        # the film thins at the crest but is never driven negative (the solver would clip it
+        # to 0 and count it; thickness >= 0 alone could not fail): measured min 0.24 / 0.025 e0
+        assert r.volume_error <= 1e-10 and r.clipped == 0 and r.thickness.min() > 0.0
         # the thinnest film sits at or beside the crest (a dimple forms just off it)
         row = r.thickness[:, 0]
         assert h[np.argmin(row), 0] > 0.8 * h[peak, 0]

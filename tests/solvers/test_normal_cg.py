@@ -58,8 +58,11 @@ def test_hertz_force_control(n):
     check_hertz(res, 0.01)
     assert res.force == pytest.approx(F_HERTZ, rel=1e-12)
     assert res.info["method"] == "normcg"
-    # complementarity: gap 0 on the contact, >= 0 outside, p > 0 only on the contact
-    g = h + res.displacement - res.approach
+    # complementarity: gap 0 on the contact, >= 0 outside, p > 0 only on the contact; the gap
+    # from the pressure through the operator (and the returned displacement is that one)
+    u = op.apply(res.pressure)
+    np.testing.assert_allclose(res.displacement, u, rtol=1e-10, atol=1e-12 * res.approach)
+    g = h + u - res.approach
     assert np.abs(g[res.contact]).max() < 1e-9 * (h.max() - h.min())
     assert g[~res.contact].min() > -1e-9 * (h.max() - h.min())
     assert np.all(res.pressure[~res.contact] == 0.0) and res.pressure[res.contact].min() > 0

@@ -94,10 +94,23 @@ def test_non_positive_force_without_adhesion(sphere_problem, force):
 def test_negative_force_allowed_with_adhesion(sphere_problem):
     grid, op, h = sphere_problem
     ad = DugdaleAdhesion(0.05, 0.3e-9)
-    # no InputError: a small tensile force is meaningful with adhesion
+    # no InputError: a small tensile force is meaningful with adhesion, and it is solved
+    # (37 iterations; any ConvergenceWarning is an error here)
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        solve_normal(op, h, force=-1e-9, interaction=ad, max_iterations=5)
+        warnings.simplefilter("error", ConvergenceWarning)
+        res = solve_normal(op, h, force=-1e-9, interaction=ad)
+    assert res.converged, res.message
+    assert res.force == pytest.approx(-1e-9, rel=1e-6)
+    assert res.pressure.sum() * grid.cell_area == pytest.approx(-1e-9, rel=1e-6)
+    assert res.contact.any() and res.adhesive.any() and res.pressure.min() == pytest.approx(-ad.sigma0)
+    # cut short, the same solve reports its non-convergence: a ConvergenceWarning naming the
+    # iteration limit and a result marked unconverged; strict=True raises instead
+    with pytest.warns(ConvergenceWarning, match="not converged after 5 iterations"):
+        short = solve_normal(op, h, force=-1e-9, interaction=ad, max_iterations=5)
+    assert short.converged is False and short.iterations == 5
+    assert "not converged after 5 iterations" in short.message
+    with pytest.raises(ConvergenceError, match="not converged after 5 iterations"):
+        solve_normal(op, h, force=-1e-9, interaction=ad, max_iterations=5, strict=True)
 
 
 def test_load_must_be_force_xor_approach(sphere_problem):
