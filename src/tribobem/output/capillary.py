@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..units import display_unit, format_quantity
-from .figures import _extent, _figure, _map_axes, _save
+from .plotting import map_axes, map_extent, new_figure, save_png
 
 __all__ = ["is_capillary", "is_humid_pulloff", "chosen_steps", "capillary_step", "capillary_forces_figure",
            "pulloff_rh_figure", "meniscus_figure", "films_figure", "capillary_figures", "FIGURE_NAMES"]
@@ -29,7 +29,7 @@ __all__ = ["is_capillary", "is_humid_pulloff", "chosen_steps", "capillary_step",
 FIGURE_NAMES = ("capillary_forces", "pulloff_rh", "meniscus", "films")
 
 #: free, dry cross-cut island, meniscus, Dugdale zone, contact
-_COLORS = ("#eef0f2", "#cfe3f3", "#2b7bba", "#f4a261", "#1d2d3a")
+_MENISCUS_COLORS = ("#eef0f2", "#cfe3f3", "#2b7bba", "#f4a261", "#1d2d3a")
 _LABELS = ("free", "dry cross-cut (no seed)", "meniscus (dP_cap)", "Dugdale zone", "contact")
 
 
@@ -103,7 +103,7 @@ def capillary_forces_figure(summary: dict, path) -> Path | None:
     total = comp["capillary_force"] + comp["solid_solid_force"] + comp["water_solid_force"]
     ok = np.array([bool(r.get("converged")) for r in rows])
     ff, fl = display_unit(np.concatenate([total, comp["capillary_force"]]), "force")
-    fig = _figure(11.0, 4.3)
+    fig = new_figure(11.0, 4.3)
     ax, ax2 = fig.subplots(1, 2)
     for key, lab, color, mk in (("capillary_force", "F$_{cap}$ (capillary)", "#2b7bba", "o"),
                                 ("solid_solid_force", "F$_{ss}$ (solid-solid, Dugdale)", "#f4a261", "s"),
@@ -132,7 +132,7 @@ def capillary_forces_figure(summary: dict, path) -> Path | None:
     lines = ax2.get_lines() + ax3.get_lines()
     ax2.legend(lines, [ln.get_label() for ln in lines], fontsize=8, loc="upper left")
     ax2.set_title("meniscus and contact areas", fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def pulloff_rh_figure(summary: dict, path) -> Path | None:
@@ -149,7 +149,7 @@ def pulloff_rh_figure(summary: dict, path) -> Path | None:
     curves = summary.get("unloading_curves") or []
     allf = np.concatenate([po, cap] + [np.asarray(c.get("force") or [], dtype=float) for c in curves])
     ff, fl = display_unit(allf[np.isfinite(allf)] if np.any(np.isfinite(allf)) else np.array([1.0]), "force")
-    fig = _figure(11.0, 4.3)
+    fig = new_figure(11.0, 4.3)
     ax, ax2 = fig.subplots(1, 2)
     ax.plot(rh, po / ff, marker="o", color="k", label="pull-off force")
     ax.plot(rh, cap / ff, marker="s", ms=4, ls="--", color="#2b7bba", label="F$_{cap}$ at pull-off")
@@ -181,7 +181,7 @@ def pulloff_rh_figure(summary: dict, path) -> Path | None:
         ax2.legend(fontsize=7, ncols=2)
     else:
         ax2.set_visible(False)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 # ----------------------------------------------------------------------------- maps
@@ -222,24 +222,24 @@ def meniscus_figure(ds, steps, path, h0: float | None = None) -> Path | None:
     cell = float(ds.attrs.get("dx", 1.0)) * float(ds.attrs.get("dy", 1.0))
     total = ds.sizes["x"] * ds.sizes["y"] * cell
     nrow, ncol = _panel_grid(len(steps))
-    fig = _figure(3.7 * ncol + 0.4, 3.8 * nrow + 0.6)
+    fig = new_figure(3.7 * ncol + 0.4, 3.8 * nrow + 0.6)
     axes = fig.subplots(nrow, ncol, squeeze=False)
-    cmap = ListedColormap(list(_COLORS))
+    cmap = ListedColormap(list(_MENISCUS_COLORS))
     norm = BoundaryNorm(np.arange(-0.5, 5.0, 1.0), 5)
     for ax, i in zip(axes.flat, steps):
         code = _category(ds, i, h0)
-        ax.imshow(code.T, origin="lower", extent=_extent(ds, lf), cmap=cmap, norm=norm, interpolation="nearest")
-        _map_axes(ax, ds, lf, ll)
+        ax.imshow(code.T, origin="lower", extent=map_extent(ds, lf), cmap=cmap, norm=norm, interpolation="nearest")
+        map_axes(ax, ds, lf, ll)
         men = float((code == 2).sum() * cell)
         con = float((code == 4).sum() * cell)
         title = f"RH {100 * rh[i]:.3g} %" if rh is not None else str(ds["label"].values[i])
         ax.set_title(f"{title}: meniscus {100 * men / total:.3g} %, contact {100 * con / total:.3g} %", fontsize=9)
     for ax in list(axes.flat)[len(steps):]:
         ax.set_visible(False)
-    handles = [Patch(facecolor=c, edgecolor="0.6", label=lab) for k, (c, lab) in enumerate(zip(_COLORS, _LABELS))
+    handles = [Patch(facecolor=c, edgecolor="0.6", label=lab) for k, (c, lab) in enumerate(zip(_MENISCUS_COLORS, _LABELS))
                if k != 3 or h0]
     fig.legend(handles=handles, loc="outside lower center", ncols=5, fontsize=8, frameon=False)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def films_figure(ds, steps, path) -> Path | None:
@@ -260,18 +260,18 @@ def films_figure(ds, steps, path) -> Path | None:
     rh = _rh_of(ds)
     lf, ll = display_unit(np.abs(np.asarray(ds["x"].values)) * 2, "length")
     ncol = len(steps)
-    fig = _figure(4.1 * ncol + 0.4, 3.6 * len(bodies) + 0.4)
+    fig = new_figure(4.1 * ncol + 0.4, 3.6 * len(bodies) + 0.4)
     axes = fig.subplots(len(bodies), ncol, squeeze=False)
     for r, b in enumerate(bodies):
         for c, i in enumerate(steps):
             ax = axes[r, c]
             e = np.asarray(ds[f"film_thickness_{b}"].values[i]) * 1e9  # nm: films are a few nm thick
-            im = ax.imshow(e.T, origin="lower", extent=_extent(ds, lf), cmap="Blues", interpolation="nearest")
-            _map_axes(ax, ds, lf, ll)
+            im = ax.imshow(e.T, origin="lower", extent=map_extent(ds, lf), cmap="Blues", interpolation="nearest")
+            map_axes(ax, ds, lf, ll)
             title = f"RH {100 * rh[i]:.3g} %" if rh is not None else str(ds["label"].values[i])
             ax.set_title(f"body {b}, {title}: mean {e.mean():.3g} nm", fontsize=9)
             fig.colorbar(im, ax=ax, shrink=0.8, label=f"e{b} (nm)")
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def capillary_figures(ds, summary: dict, outdir) -> dict:

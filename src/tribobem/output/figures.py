@@ -13,14 +13,13 @@ chosen from the data (nm / µm, kPa / MPa / GPa, nN / µN).  Files are written a
 
 from __future__ import annotations
 
-import io
 from pathlib import Path
 
 import numpy as np
 
 from ..units import display_unit, format_quantity
 from .fields import representative_step
-from .summary import atomic_write_bytes
+from .plotting import COLORS, CONTACT_COLORS, map_axes, map_extent, new_figure, save_png, step_title
 
 __all__ = ["FIGURE_NAMES", "make_figures", "topography_figure", "pressure_figure", "contact_figure",
            "profile_figure", "force_curve_figure", "stickslip_figure", "stickslip_steps", "stick_ratio_figure",
@@ -36,73 +35,23 @@ FIGURE_NAMES = ("hysteresis_loop", "capillary_forces", "pulloff_rh", "force_curv
                 "stickslip", "lateral_stiffness", "dissipation", "meniscus", "films", "pressure", "contact", "profile",
                 "pressure_pulloff", "contact_pulloff", "topography")
 
-_DPI = 110
-_COLORS = {"loading": "#1f77b4", "unloading": "#d62728"}
-_CONTACT_COLORS = ("#e9ecef", "#f4a261", "#264653")  # free, cohesive zone, contact
-
-
-def _figure(w=5.6, h=4.4):
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(w, h), layout="constrained")
-    return fig
-
-
-def _save(fig, path) -> Path:
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=_DPI)
-    return atomic_write_bytes(path, buf.getvalue())
-
-
-def _extent(ds, factor):
-    x, y = np.asarray(ds["x"].values), np.asarray(ds["y"].values)
-    dx = float(x[1] - x[0]) if len(x) > 1 else 1.0
-    dy = float(y[1] - y[0]) if len(y) > 1 else 1.0
-    return [(x[0] - dx / 2) / factor, (x[-1] + dx / 2) / factor, (y[0] - dy / 2) / factor, (y[-1] + dy / 2) / factor]
-
-
-def _map_axes(ax, ds, lf, ll, active=None):
-    """Labels, equal aspect, and a zoom on the active region when it is small."""
-    ax.set_xlabel(f"x ({ll})")
-    ax.set_ylabel(f"y ({ll})")
-    ax.set_aspect("equal")
-    if active is not None and active.any():
-        x = np.asarray(ds["x"].values) / lf
-        y = np.asarray(ds["y"].values) / lf
-        ix = np.nonzero(active.any(axis=1))[0]
-        iy = np.nonzero(active.any(axis=0))[0]
-        x0, x1, y0, y1 = x[ix[0]], x[ix[-1]], y[iy[0]], y[iy[-1]]
-        half = 0.5 * max(x1 - x0, y1 - y0) * 1.5 + 2 * abs(x[1] - x[0] if len(x) > 1 else 1.0)
-        span_x, span_y = x[-1] - x[0], y[-1] - y[0]
-        if 2 * half < 0.6 * min(span_x, span_y):
-            cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
-            ax.set_xlim(cx - half, cx + half)
-            ax.set_ylim(cy - half, cy + half)
-
-
-def _step_title(ds, step) -> str:
-    label = str(ds["label"].values[step])
-    f = float(ds["normal_force"].values[step])
-    return f"{label}, F = {format_quantity(f, 'force', 3)}"
-
-
 def topography_figure(ds, path) -> Path:
     """Initial gap and the bodies' roughness (when present), as maps."""
     panels = [("initial_gap", "initial gap h")]
     for name in ("roughness_body1", "roughness_body2"):
         if name in ds and np.any(np.asarray(ds[name].values) != 0):
             panels.append((name, f"roughness of body {name[-1]}"))
-    fig = _figure(4.6 * len(panels), 4.2)
+    fig = new_figure(4.6 * len(panels), 4.2)
     axes = fig.subplots(1, len(panels), squeeze=False)[0]
     lf, ll = display_unit(np.abs(np.asarray(ds["x"].values)) * 2, "length")
     for ax, (name, title) in zip(axes, panels):
         h = np.asarray(ds[name].values)
         hf, hl = display_unit(h, "length")
-        im = ax.imshow(h.T / hf, origin="lower", extent=_extent(ds, lf), cmap="cividis", interpolation="nearest")
-        _map_axes(ax, ds, lf, ll)
+        im = ax.imshow(h.T / hf, origin="lower", extent=map_extent(ds, lf), cmap="cividis", interpolation="nearest")
+        map_axes(ax, ds, lf, ll)
         ax.set_title(title)
         fig.colorbar(im, ax=ax, shrink=0.85, label=f"height ({hl})")
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def pressure_figure(ds, step: int, path) -> Path:
@@ -114,16 +63,16 @@ def pressure_figure(ds, step: int, path) -> Path:
     p = np.asarray(ds["pressure"].values[step])
     pf, pl = display_unit(p, "pressure")
     lf, ll = display_unit(np.abs(np.asarray(ds["x"].values)) * 2, "length")
-    fig = _figure()
+    fig = new_figure()
     ax = fig.add_subplot()
     pmin, pmax = float(p.min()), float(p.max())
     if pmin < 0:
         top = pmax if pmax > 0 else 1e-3 * abs(pmin)
         norm = TwoSlopeNorm(vmin=pmin / pf, vcenter=0.0, vmax=top / pf)
-        im = ax.imshow(p.T / pf, origin="lower", extent=_extent(ds, lf), cmap="RdBu_r", norm=norm,
+        im = ax.imshow(p.T / pf, origin="lower", extent=map_extent(ds, lf), cmap="RdBu_r", norm=norm,
                        interpolation="nearest")
     else:
-        im = ax.imshow(p.T / pf, origin="lower", extent=_extent(ds, lf), cmap="magma_r", interpolation="nearest")
+        im = ax.imshow(p.T / pf, origin="lower", extent=map_extent(ds, lf), cmap="magma_r", interpolation="nearest")
     fig.colorbar(im, ax=ax, shrink=0.85, label=f"pressure p ({pl}), > 0 compressive")
     x = np.asarray(ds["x"].values) / lf
     y = np.asarray(ds["y"].values) / lf
@@ -136,9 +85,9 @@ def pressure_figure(ds, step: int, path) -> Path:
             handles.append(Line2D([], [], color=color, lw=1, label=text))
     if handles:
         ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.8)
-    _map_axes(ax, ds, lf, ll, active=p != 0)
-    ax.set_title(f"pressure ({_step_title(ds, step)})", fontsize=10)
-    return _save(fig, path)
+    map_axes(ax, ds, lf, ll, active=p != 0)
+    ax.set_title(f"pressure ({step_title(ds, step)})", fontsize=10)
+    return save_png(fig, path)
 
 
 def contact_figure(ds, step: int, path) -> Path:
@@ -151,20 +100,20 @@ def contact_figure(ds, step: int, path) -> Path:
     code = np.where(contact, 2, np.where(adhesive, 1, 0))
     lf, ll = display_unit(np.abs(np.asarray(ds["x"].values)) * 2, "length")
     cell = float(ds.attrs.get("dx", 1.0)) * float(ds.attrs.get("dy", 1.0))
-    fig = _figure()
+    fig = new_figure()
     ax = fig.add_subplot()
-    cmap = ListedColormap(list(_CONTACT_COLORS))
-    ax.imshow(code.T, origin="lower", extent=_extent(ds, lf), cmap=cmap,
+    cmap = ListedColormap(list(CONTACT_COLORS))
+    ax.imshow(code.T, origin="lower", extent=map_extent(ds, lf), cmap=cmap,
               norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3), interpolation="nearest")
-    handles = [Patch(color=_CONTACT_COLORS[2], label=f"contact: {format_quantity(contact.sum() * cell, 'area', 3)}")]
+    handles = [Patch(color=CONTACT_COLORS[2], label=f"contact: {format_quantity(contact.sum() * cell, 'area', 3)}")]
     if np.any(np.asarray(ds["adhesive"].values)):  # adhesive run: show the cohesive zone even when empty
-        handles.append(Patch(color=_CONTACT_COLORS[1],
+        handles.append(Patch(color=CONTACT_COLORS[1],
                              label=f"cohesive zone: {format_quantity(adhesive.sum() * cell, 'area', 3)}"))
-    handles.append(Patch(facecolor=_CONTACT_COLORS[0], edgecolor="0.6", label="free"))
+    handles.append(Patch(facecolor=CONTACT_COLORS[0], edgecolor="0.6", label="free"))
     ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.85)
-    _map_axes(ax, ds, lf, ll, active=code > 0)
-    ax.set_title(f"contact map ({_step_title(ds, step)})", fontsize=10)
-    return _save(fig, path)
+    map_axes(ax, ds, lf, ll, active=code > 0)
+    ax.set_title(f"contact map ({step_title(ds, step)})", fontsize=10)
+    return save_png(fig, path)
 
 
 def profile_figure(ds, step: int, path) -> Path:
@@ -178,7 +127,7 @@ def profile_figure(ds, step: int, path) -> Path:
     lf, ll = display_unit(np.abs(x) * 2, "length")
     gf, gl = display_unit(np.concatenate([g, h]), "length")
     pf, pl = display_unit(p, "pressure")
-    fig = _figure(6.4, 4.2)
+    fig = new_figure(6.4, 4.2)
     ax = fig.add_subplot()
     ax.plot(x / lf, h / gf, color="0.6", lw=1, ls="--", label="initial gap h")
     ax.plot(x / lf, g / gf, color="#1f77b4", lw=1.4, label="gap g")
@@ -190,8 +139,8 @@ def profile_figure(ds, step: int, path) -> Path:
     ax2.set_ylabel(f"pressure ({pl})", color="#d62728")
     lines = ax.get_lines()[:2] + ax2.get_lines()[:1]
     ax.legend(lines, [ln.get_label() for ln in lines], loc="upper center", fontsize=8)
-    ax.set_title(f"centre line y = {y[iy] / lf:.3g} {ll} ({_step_title(ds, step)})", fontsize=10)
-    return _save(fig, path)
+    ax.set_title(f"centre line y = {y[iy] / lf:.3g} {ll} ({step_title(ds, step)})", fontsize=10)
+    return save_png(fig, path)
 
 
 def force_curve_figure(summary: dict, path) -> Path | None:
@@ -207,12 +156,12 @@ def force_curve_figure(summary: dict, path) -> Path | None:
     extra_f = [summary.get("pull_off_force")] if summary.get("pull_off_force") is not None else []
     df, dl = display_unit(d, "length")
     ff, fl = display_unit(np.concatenate([f, np.asarray(extra_f, dtype=float)]), "force")
-    fig = _figure(6.4, 4.6)
+    fig = new_figure(6.4, 4.6)
     ax = fig.add_subplot()
     for name, marker in (("loading", "o"), ("unloading", "s")):
         m = branch == name
         if m.any():
-            ax.plot(d[m] / df, f[m] / ff, marker=marker, ms=3.5, lw=1.3, color=_COLORS[name], label=name)
+            ax.plot(d[m] / df, f[m] / ff, marker=marker, ms=3.5, lw=1.3, color=COLORS[name], label=name)
     if (~conv).any():
         ax.plot(d[~conv] / df, f[~conv] / ff, "x", color="k", ms=7, label="not converged")
     ax.axhline(0.0, color="0.5", lw=0.6)
@@ -239,7 +188,7 @@ def force_curve_figure(summary: dict, path) -> Path | None:
     else:
         ax.legend(fontsize=8, loc="best")
     ax.set_title(f"force-approach curve ({summary.get('kind', '')})", fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def _pull_off_inset(ax, d, f, branch, po, pa, df):
@@ -252,7 +201,7 @@ def _pull_off_inset(ax, d, f, branch, po, pa, df):
     for name, marker in (("loading", "o"), ("unloading", "s")):
         m = (branch == name) & band
         if m.any():
-            ins.plot(d[m] / df, f[m] / ffi, marker=marker, ms=3, lw=1.0, color=_COLORS[name])
+            ins.plot(d[m] / df, f[m] / ffi, marker=marker, ms=3, lw=1.0, color=COLORS[name])
     ins.plot([pa / df], [po / ffi], marker="*", ms=11, color="#e9c46a", mec="k", ls="none")
     ins.axhline(0.0, color="0.5", lw=0.6)
     ins.set_ylim(1.4 * po / ffi, 2.0 * abs(po) / ffi)
@@ -337,7 +286,7 @@ def _zoom_window(ds, active, lf):
     x = np.asarray(ds["x"].values) / lf
     y = np.asarray(ds["y"].values) / lf
     dx = abs(x[1] - x[0]) if len(x) > 1 else 1.0
-    ext = _extent(ds, lf)
+    ext = map_extent(ds, lf)
     if not active.any():
         return ext[:2], ext[2:]
     ix = np.nonzero(active.any(axis=1))[0]
@@ -368,11 +317,11 @@ def stickslip_figure(ds, step: int, path, *, mu: float | None = None, qmax: floa
         Traction (Pa) of the longest arrow; the step's own maximum when omitted (give a common
         value to compare the maps of several steps).
     """
-    fig = _figure(5.6, 5.6)
+    fig = new_figure(5.6, 5.6)
     ax = fig.add_subplot()
     handles = _stickslip_axes(ax, ds, step, mu=mu, qmax=qmax)
     fig.legend(handles=handles, loc="outside lower center", ncols=2, fontsize=8, frameon=False)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def _stickslip_masks(ds, step: int):
@@ -410,7 +359,7 @@ def _stickslip_axes(ax, ds, step: int, *, mu=None, qmax=None, window=None, lette
     else:
         xl, yl, lf, ll = window
 
-    ax.imshow(code.T, origin="lower", extent=_extent(ds, lf), cmap=ListedColormap(list(_STICKSLIP_COLORS)),
+    ax.imshow(code.T, origin="lower", extent=map_extent(ds, lf), cmap=ListedColormap(list(_STICKSLIP_COLORS)),
               norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4), interpolation="nearest")
     if comp.any() and 0 < comp.sum() < comp.size:
         ax.contour(x / lf, y / lf, comp.T.astype(float), levels=[0.5], colors="0.25", linewidths=0.6)
@@ -577,7 +526,7 @@ def stick_ratio_figure(summary: dict, path) -> Path | None:
     sr = np.array([float(r["stick_ratio"]) for r in rows])
     has_d = all(_num(r.get("displacement_x")) is not None for r in rows)
 
-    fig = _figure(5.8, 6.6 if has_d else 4.0)
+    fig = new_figure(5.8, 6.6 if has_d else 4.0)
     axes = fig.subplots(2 if has_d else 1, 1, sharex=True, squeeze=False)[:, 0]
     ax = axes[0]
     _plot_branches(ax, xv, sr, rows, color="#1f77b4")
@@ -621,7 +570,7 @@ def stick_ratio_figure(summary: dict, path) -> Path | None:
         if ax2.get_legend_handles_labels()[0]:
             ax2.legend(fontsize=8, loc="best")
     axes[-1].set_xlabel(xlabel)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def stick_normal_figure(summary: dict, path) -> Path | None:
@@ -638,7 +587,7 @@ def stick_normal_figure(summary: dict, path) -> Path | None:
     if max(ft, default=0.0) > 1e-9 * np.max(np.abs(fn)):
         return None
     ff, fl = display_unit(fn, "force")
-    fig = _figure(6.0, 4.4)
+    fig = new_figure(6.0, 4.4)
     ax = fig.add_subplot()
     _plot_branches(ax, fn / ff, np.array([float(r["stick_ratio"]) for r in rows]), rows, color="#1f77b4",
                    label=r"stick ratio $A_\mathrm{stick}/A_\mathrm{c}$")
@@ -651,7 +600,7 @@ def stick_normal_figure(summary: dict, path) -> Path | None:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     ax.set_title(f"stick zone along the normal-load path ({summary.get('kind', '')})", fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -824,7 +773,7 @@ def hysteresis_loop_figure(summary: dict, path) -> Path | None:
     df, dl = display_unit(np.concatenate([D - D[0], extra_d]), "length")
     has_sr = np.isfinite(sr).sum() >= 2
 
-    fig = _figure(6.6, 8.4 if has_sr else 5.4)
+    fig = new_figure(6.6, 8.4 if has_sr else 5.4)
     if has_sr:
         ax, ax2 = fig.subplots(2, 1, height_ratios=[1.7, 1.0])
     else:
@@ -905,7 +854,7 @@ def hysteresis_loop_figure(summary: dict, path) -> Path | None:
         ax2.grid(alpha=0.3)
         ax2.set_title("stick ratio along the path (\u25bc unloading, \u25b2 reloading)" if ms
                       else "stick ratio along the path", fontsize=9)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def _label_points(ax, x, y, letters: dict) -> None:
@@ -1030,7 +979,7 @@ def lateral_stiffness_figure(summary: dict, path) -> Path | None:
                 curves[key] = (grid, k0 * law(grid))
     allk = np.concatenate([kfit, kmd, kvir] + [c[1] for c in curves.values()])
     kf, kl = _stiffness_unit(allk)
-    fig = _figure(6.2, 4.6)
+    fig = new_figure(6.2, 4.6)
     ax = fig.add_subplot()
     handles, labels = [], []
     pts = ax.plot(xr, kfit / kf, "o", ms=9, color="#1f77b4", mec="k", zorder=5)[0]
@@ -1065,7 +1014,7 @@ def lateral_stiffness_figure(summary: dict, path) -> Path | None:
     h2, l2 = ax.get_legend_handles_labels()
     ax.legend(handles + h2, labels + l2, fontsize=8, loc="lower left", framealpha=0.9)
     ax.set_title("lateral stiffness at Paper F's points A, B, C", fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def _cycle_maps(ds):
@@ -1107,10 +1056,10 @@ def dissipation_figure(ds, path, cycle_index: int = -1, *, work: float | None = 
         sf, sl = (1e-9, "nm") if smax < 1e-5 else (1e-6, "\u00b5m")
         panels.append(("slip", np.where(contact, s, np.nan), sf, sl, "viridis",
                        "accumulated slip $\\sum |\\Delta s|$"))
-    fig = _figure(5.0 * len(panels), 4.6)
+    fig = new_figure(5.0 * len(panels), 4.6)
     axes = fig.subplots(1, len(panels), squeeze=False)[0]
     for ax, (_, data, f, unit, cmap, title) in zip(axes, panels):
-        im = ax.imshow(data.T / f, origin="lower", extent=_extent(ds, lf), cmap=cmap, interpolation="nearest")
+        im = ax.imshow(data.T / f, origin="lower", extent=map_extent(ds, lf), cmap=cmap, interpolation="nearest")
         if contact.any() and contact.sum() < contact.size:
             ax.contour(x / lf, y / lf, contact.T.astype(float), levels=[0.5], colors="0.3", linewidths=0.6)
         ax.set_xlim(*xl)
@@ -1124,7 +1073,7 @@ def dissipation_figure(ds, path, cycle_index: int = -1, *, work: float | None = 
     if work is not None:
         head += f": dissipated energy {format_quantity(work, 'energy', 3)} (traction work)"
     fig.suptitle(head, fontsize=10)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def loop_map_steps(ds, summary: dict) -> list[tuple[int, str]]:
@@ -1164,7 +1113,7 @@ def loop_stickslip_figure(ds, picks, path, *, mu=None) -> Path:
                                         np.nan_to_num(ds["shear_y"].values[i])))) for i, _ in picks)
     ncol = min(3, len(picks))
     nrow = -(-len(picks) // ncol)
-    fig = _figure(3.9 * ncol, 3.9 * nrow + 0.5)
+    fig = new_figure(3.9 * ncol, 3.9 * nrow + 0.5)
     axes = fig.subplots(nrow, ncol, squeeze=False)
     handles = []
     for ax, (i, name) in zip(axes.flat, picks):
@@ -1178,7 +1127,7 @@ def loop_stickslip_figure(ds, picks, path, *, mu=None) -> Path:
             if r < nrow - 1 and (r + 1) * ncol + c < len(picks):
                 axes[r, c].set_xlabel("")
     fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=9, frameon=False)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def hysteresis_figures(ds, summary: dict, outdir) -> dict:

@@ -1,0 +1,72 @@
+"""Plotting helpers shared by the figure modules (:mod:`.figures`, :mod:`.capillary`): a
+matplotlib Figure without pyplot state, the atomic PNG write, and the axes of a map in the
+grid's coordinates (m, shown in the unit the caller chose).
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+
+from ..units import format_quantity
+from .atomic import atomic_write_bytes
+
+__all__ = ["DPI", "COLORS", "CONTACT_COLORS", "new_figure", "save_png", "map_extent", "map_axes", "step_title"]
+
+#: Resolution of the PNG figures (dots per inch).
+DPI = 110
+#: Line colours of the loading and unloading branches.
+COLORS = {"loading": "#1f77b4", "unloading": "#d62728"}
+#: Map colours: free, cohesive zone, contact.
+CONTACT_COLORS = ("#e9ecef", "#f4a261", "#264653")  # free, cohesive zone, contact
+
+
+def new_figure(w=5.6, h=4.4):
+    """A constrained-layout Figure of ``w`` x ``h`` inches (no pyplot state: thread-safe)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(w, h), layout="constrained")
+    return fig
+
+
+def save_png(fig, path) -> Path:
+    """Write ``fig`` to ``path`` as PNG, atomically; returns the path."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=DPI)
+    return atomic_write_bytes(path, buf.getvalue())
+
+
+def map_extent(ds, factor):
+    """imshow extent of the grid of dataset ``ds`` (cell edges), in m / ``factor``."""
+    x, y = np.asarray(ds["x"].values), np.asarray(ds["y"].values)
+    dx = float(x[1] - x[0]) if len(x) > 1 else 1.0
+    dy = float(y[1] - y[0]) if len(y) > 1 else 1.0
+    return [(x[0] - dx / 2) / factor, (x[-1] + dx / 2) / factor, (y[0] - dy / 2) / factor, (y[-1] + dy / 2) / factor]
+
+
+def map_axes(ax, ds, lf, ll, active=None):
+    """Labels, equal aspect, and a zoom on the active region when it is small."""
+    ax.set_xlabel(f"x ({ll})")
+    ax.set_ylabel(f"y ({ll})")
+    ax.set_aspect("equal")
+    if active is not None and active.any():
+        x = np.asarray(ds["x"].values) / lf
+        y = np.asarray(ds["y"].values) / lf
+        ix = np.nonzero(active.any(axis=1))[0]
+        iy = np.nonzero(active.any(axis=0))[0]
+        x0, x1, y0, y1 = x[ix[0]], x[ix[-1]], y[iy[0]], y[iy[-1]]
+        half = 0.5 * max(x1 - x0, y1 - y0) * 1.5 + 2 * abs(x[1] - x[0] if len(x) > 1 else 1.0)
+        span_x, span_y = x[-1] - x[0], y[-1] - y[0]
+        if 2 * half < 0.6 * min(span_x, span_y):
+            cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+            ax.set_xlim(cx - half, cx + half)
+            ax.set_ylim(cy - half, cy + half)
+
+
+def step_title(ds, step) -> str:
+    """``label, F = ...`` of step ``step`` of dataset ``ds``."""
+    label = str(ds["label"].values[step])
+    f = float(ds["normal_force"].values[step])
+    return f"{label}, F = {format_quantity(f, 'force', 3)}"
