@@ -16,7 +16,7 @@ from .solvers import GrossSlipError, SlipRamp, normal_path, solve_coupled, solve
 from .solvers.paths import LoadCurve, PullOff, approach_curve, force_curve, pull_off, solve_at_force
 from .units import to_si
 
-__version__ = "0.1.0"
+from ._version import __version__
 
 __all__ = [
     # model

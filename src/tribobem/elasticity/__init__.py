@@ -1,6 +1,7 @@
 """Elasticity: influence coefficients, convolution operators, array backends."""
 
-from .backend import Backend, cupy_available, get_backend
+from .backend import Backend, cupy_available
+from .backends import get_backend
 from .influence import composite_coefficients, point_kernel, single_body_coefficients
 from .operators import ConvolutionOperator, free_boundary_operator, make_operator, periodic_operator
 

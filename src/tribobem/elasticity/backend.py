@@ -30,7 +30,6 @@ from __future__ import annotations
 import os
 import threading
 from dataclasses import dataclass, field
-from functools import lru_cache
 
 import numpy as np
 import scipy.fft
@@ -311,30 +310,6 @@ def work_buffers(owner) -> dict:
     if bufs is None:
         bufs = tls.bufs = {}
     return bufs
-
-
-@lru_cache(maxsize=None)
-def get_backend(name: str = "numpy") -> Backend:
-    """The backend called ``name`` ("numpy" or "cupy"); raises if CuPy is unusable.
-
-    ``"strict"`` is the testing backend of :mod:`tribobem.elasticity.strict` (NumPy underneath,
-    CuPy's host/device rules: a host array reaching the device array module fails without a
-    GPU); scenarios do not offer it.
-    """
-    if name == "strict":
-        from .strict import strict_backend
-
-        return strict_backend()
-    if name not in ("numpy", "cupy"):
-        from ..errors import InputError
-
-        raise InputError("solver.backend", f"must be 'numpy' or 'cupy', got {name!r}")
-    if name == "cupy":
-        if not cupy_available():
-            from ..errors import InputError
-
-            raise InputError("solver.backend", "CuPy with a working CUDA device is not available; install tribobem[gpu]")
-    return Backend(name)
 
 
 def cupy_available() -> bool:

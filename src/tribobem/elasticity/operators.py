@@ -38,7 +38,8 @@ import numpy as np
 
 from ..grid import Grid
 from ..materials import ContactPair
-from .backend import Backend, get_backend, work_buffers
+from .backend import Backend, work_buffers
+from .backends import get_backend
 from .influence import composite_coefficients
 
 AXES = ("x", "y", "z")

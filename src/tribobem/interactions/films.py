@@ -61,7 +61,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..elasticity.backend import get_backend
+from ..elasticity.backends import get_backend
 from ..errors import ConvergenceWarning, InputError
 from ..grid import Grid
 from .isotherms import Isotherm, isotherm_from_spec

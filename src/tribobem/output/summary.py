@@ -41,7 +41,7 @@ def versions() -> dict:
 
         tb = version("tribobem")
     except Exception:  # pragma: no cover - not installed
-        from .. import __version__ as tb
+        from .._version import __version__ as tb
     out = {"tribobem": tb, "numpy": np.__version__, "scipy": scipy.__version__,
            "python": platform.python_version()}
     for mod in ("xarray", "matplotlib", "SurfaceTopography"):
