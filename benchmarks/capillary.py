@@ -6,7 +6,7 @@
    films' own benchmark ``benchmarks/capillary_films.py`` (its ``main``; a local copy of the
    same measurement when that file is absent).
 2. A 10-value RH sweep of the Paper B rough interface at 256^2 (target: within 2 minutes):
-   the ``capillary`` run of :func:`tribobem.studies.paper_b.base_scenario` (elastic SiO2 on a
+   the ``capillary`` run of :func:`studies.paper_b.base_scenario` (elastic SiO2 on a
    rigid dry flat, 500 uN, Dugdale 88 mJ/m^2 / 0.3 nm, equilibrium films) at RH 0.1, 0.2, ...,
    0.9, 0.95, through :func:`tribobem.scenario.run_scenario` (no files written).
 
@@ -23,6 +23,10 @@ import json
 import sys
 import time
 from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the repository root
+    sys.path.insert(0, str(ROOT))
 
 RH_SWEEP = (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95)
 FILM_TARGET = 5.0
@@ -51,7 +55,7 @@ def _film_benchmark_local(n: int, rh_values) -> list[dict]:
     from tribobem.geometry import gaussian_surface
     from tribobem.grid import Grid
     from tribobem.interactions.films import film_thickness
-    from tribobem.studies.paper_b import LAC_RATIOS, RMS, SIZE
+    from studies.paper_b import LAC_RATIOS, RMS, SIZE
 
     grid = Grid(n, n, SIZE, SIZE, True)
     h = gaussian_surface(grid, RMS, LAC_RATIOS[0] * SIZE, seed=1)
@@ -68,7 +72,7 @@ def _film_benchmark_local(n: int, rh_values) -> list[dict]:
 def sweep_benchmark(n: int = 256, rh_values=RH_SWEEP) -> dict:
     """Time the RH sweep of the Paper B rough interface (one ``capillary`` run)."""
     from tribobem.scenario import run_scenario
-    from tribobem.studies.paper_b import base_scenario
+    from studies.paper_b import base_scenario
 
     scn = base_scenario()
     scn["grid"]["n"] = n

@@ -36,6 +36,7 @@ import pytest
 
 from tribobem import ContactPair, Grid, Material
 from tribobem.elasticity import free_boundary_operator, get_backend, operators, periodic_operator
+from tribobem.scenario import build as build_module
 from tribobem.elasticity.strict import DeviceArray, StrictBackend, reset_counts, strict_backend
 from tribobem.scenario import run_scenario
 
@@ -248,8 +249,8 @@ RTOL = 1e-7
 
 
 def _run_strict(sc: dict, monkeypatch):
-    """The run with its operators built on the strict backend (``build_problem`` takes
-    ``make_operator`` from its module at call time); returns the result and the backends made."""
+    """The run with its operators built on the strict backend (``build_problem`` calls the
+    ``make_operator`` of tribobem.scenario.build); returns the result and the backends made."""
     made = []
     original = operators.make_operator
 
@@ -259,7 +260,7 @@ def _run_strict(sc: dict, monkeypatch):
         return op
 
     with monkeypatch.context() as mp:
-        mp.setattr(operators, "make_operator", make_operator)
+        mp.setattr(build_module, "make_operator", make_operator)
         return _run(sc), made
 
 

@@ -10,7 +10,6 @@ without a preload.
 
 from __future__ import annotations
 
-import os
 import time
 import tomllib
 import warnings
@@ -25,7 +24,6 @@ from tribobem.scenario.schema import ScenarioError
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = sorted((REPO / "examples").glob("*.toml"))
-DATA_DIR = Path(os.environ.get("TRIBOBEM_DATA_DIR") or REPO.parent / "shared/data/topographies")
 
 #: Examples over ~20 s of CPU on a shared 2-core machine run with the slow tests.
 SLOW = {"partial_slip_paper_d"}
@@ -54,8 +52,6 @@ def test_there_are_examples_and_each_states_its_expectation():
 
 @pytest.mark.parametrize("path", _params())
 def test_example_meets_its_expectation(path):
-    if "shared/data" in path.read_text() and not (DATA_DIR / "example_ps.tiff").is_file():
-        pytest.skip("shared topography folder not present")
     t0 = time.process_time()
     r = _run(path)
     cpu = time.process_time() - t0

@@ -1,4 +1,4 @@
-"""Measured friction loops (tribobem.loops) and the ``compare-loop`` command.
+"""Measured friction loops (tribobem.analysis.loops) and the ``compare-loop`` command.
 
 The "measured" loops are generated from the exact Mindlin-Deresiewicz law (SPEC 7) with noise:
 after gross sliding at -mu P, the reloading branch is
@@ -20,7 +20,8 @@ from typer.testing import CliRunner
 
 from tribobem.cli import app
 from tribobem.errors import InputError
-from tribobem.loops import (
+from tribobem.output.loops import comparison_figure
+from tribobem.analysis.loops import (
     MIN_POINTS, compare_loops, fit_branch, last_branch, loop_from_summary, read_loop, stiffness_points,
     turning_points,
 )
@@ -271,7 +272,9 @@ def test_not_a_hysteresis_result(tmp_path):
 
 def test_compare_loops_library(result_dir, measured_csv, tmp_path):
     fig = tmp_path / "cmp.png"
-    cmp = compare_loops(result_dir, measured_csv, figure=fig)
+    cmp = compare_loops(result_dir, measured_csv)
+    assert cmp.figure is None
+    assert comparison_figure(cmp, fig) == fig and cmp.figure == fig
     assert fig.is_file() and fig.stat().st_size > 10_000
     assert [r["point"] for r in cmp.rows] == ["A", "B", "C"]
     for r in cmp.rows:

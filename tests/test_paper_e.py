@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from tribobem.errors import InputError
-from tribobem.studies.paper_e import (
+from studies.paper_e import (
     FORCE, FRICTION, PAPER_E_SMOOTH_REPULSIVE_FORCE, WORKS, _points, loop_metrics, loops_table, md_state,
     paper_e_loop, paper_e_problem, summary_table,
 )

@@ -51,7 +51,7 @@ def test_tangential_results_travel_with_the_selected_fields(monkeypatch):
         out.tangential = [f"T{i}" for i in range(len(out.results))]
         return out
 
-    monkeypatch.setattr(fields_module, "build_fields", spy)
+    monkeypatch.setattr(run_module, "build_fields", spy)  # what run_scenario calls
     sc = {"grid": {"n": 16, "size": "0.5 um"}, "body1": {"E": "130 GPa", "nu": 0.28},
           "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "10 um"}},
           "load": {"forces": ["2 uN", "3 uN", "1 uN"]}, "output": {"fields": "last", "figures": False}}
@@ -81,6 +81,7 @@ def test_solver_method_normcg_for_kind_normal_matches_polonsky_keer_and_hertz(lo
     0.9 %, the area's staircase)."""
     from tribobem.analytic.hertz import hertz
     from tribobem.scenario import run_scenario
+    from tribobem.runs import normal as runs_normal  # the kind's runner calls solve_normal
     from tribobem.solvers import normal as normal_module
 
     calls = []
@@ -95,6 +96,7 @@ def test_solver_method_normcg_for_kind_normal_matches_polonsky_keer_and_hertz(lo
 
     monkeypatch.setattr(normal_module, "solve_normal", spy)
     monkeypatch.setattr(paths_module, "solve_normal", spy)
+    monkeypatch.setattr(runs_normal, "solve_normal", spy)
     cg = run_scenario(_hertz_scenario("normcg", **load), progress=False)
     assert calls and set(calls) == {"normcg"}
     for a, b in zip(pk.summary["steps"], cg.summary["steps"]):

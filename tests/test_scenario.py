@@ -2,12 +2,11 @@
 
 import copy
 import math
-import os
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from tribobem.data import topography_path
 from tribobem.errors import InputError, TopographyError
 from tribobem.scenario import (
     IMPLEMENTED_KINDS,
@@ -20,9 +19,8 @@ from tribobem.scenario import (
     run_scenario,
 )
 
-DATA_DIR = Path(os.environ.get("TRIBOBEM_DATA_DIR") or Path(__file__).resolve().parents[1].parent / "shared/data/topographies")
-PARK = DATA_DIR / "example_ps.tiff"
-needs_park = pytest.mark.skipif(not PARK.is_file(), reason="shared topography folder not present")
+#: The measured Park AFM scan shipped with tribobem (tribobem.data; no skip: it is always there).
+PARK = topography_path("example_ps.tiff")
 
 BASE = {
     "kind": "normal",
@@ -145,31 +143,45 @@ def test_humidity_under_a_dry_friction_kind_is_refused():
 
 
 @pytest.mark.parametrize(
-    "rough",
+    "rough, parsed",
     [
-        {"kind": "none"},
-        {"kind": "self_affine", "hurst": 0.8, "rms": "1 nm", "rolloff": "100 nm", "short_cutoff": "10 nm", "seed": 2},
-        {"kind": "self_affine", "hurst": 0.8, "rms_slope": 0.1},
-        {"kind": "file", "path": "x.tiff", "detrend": "height", "crop": {"x0": 0, "y0": 0, "lx": "0.5 um", "ly": "0.5 um"}},
-        {"kind": "array", "path": "h.npy", "size": "1 um"},
+        ({"kind": "none"}, {}),
+        ({"kind": "self_affine", "hurst": 0.8, "rms": "1 nm", "rolloff": "100 nm", "short_cutoff": "10 nm", "seed": 2},
+         {"hurst": 0.8, "rms": 1e-9, "rolloff": 1e-7, "short_cutoff": 1e-8, "seed": 2, "rms_slope": None}),
+        ({"kind": "self_affine", "hurst": 0.8, "rms_slope": 0.1}, {"hurst": 0.8, "rms_slope": 0.1, "rms": None}),
+        ({"kind": "file", "path": "x.tiff", "detrend": "height", "crop": {"x0": 0, "y0": 0, "lx": "0.5 um", "ly": "0.5 um"}},
+         {"path": "x.tiff", "detrend": "height", "crop.x0": 0.0, "crop.y0": 0.0, "crop.lx": 5e-7, "crop.ly": 5e-7}),
+        ({"kind": "array", "path": "h.npy", "size": "1 um"}, {"path": "h.npy", "size": 1e-6}),
     ],
 )
-def test_roughness_kinds_validate(rough):
-    parse_scenario(scenario(body1__roughness=rough))
+def test_roughness_kinds_validate(rough, parsed):
+    r = parse_scenario(scenario(body1__roughness=rough)).body1.roughness
+    assert r.kind == rough["kind"]
+    for key, value in parsed.items():  # in SI units
+        obj = r
+        for part in key.split("."):
+            obj = getattr(obj, part)
+        assert obj == (pytest.approx(value, rel=1e-12) if isinstance(value, float) else value), key
 
 
 @pytest.mark.parametrize(
-    "shape",
+    "shape, parsed",
     [
-        {"kind": "flat"},
-        {"kind": "sphere", "radius": "1 um", "exact": True},
-        {"kind": "cylinder", "radius": "1 um", "axis": "x"},
-        {"kind": "wavy_sphere", "radius": "1 um", "amplitude": "1 nm", "wavelength": "50 nm"},
-        {"kind": "bisinusoidal", "amplitude": "1 nm", "wavelength_x": "0.5 um", "wavelength_y": "0.5 um"},
+        ({"kind": "flat"}, {}),
+        ({"kind": "sphere", "radius": "1 um", "exact": True}, {"radius": 1e-6, "exact": True}),
+        ({"kind": "cylinder", "radius": "1 um", "axis": "x"}, {"radius": 1e-6, "axis": "x"}),
+        ({"kind": "wavy_sphere", "radius": "1 um", "amplitude": "1 nm", "wavelength": "50 nm"},
+         {"radius": 1e-6, "amplitude": 1e-9, "wavelength": 5e-8}),
+        ({"kind": "bisinusoidal", "amplitude": "1 nm", "wavelength_x": "0.5 um", "wavelength_y": "0.5 um"},
+         {"amplitude": 1e-9, "wavelength_x": 5e-7, "wavelength_y": 5e-7}),
     ],
 )
-def test_shape_kinds_validate(shape):
-    parse_scenario(scenario(body2__shape=shape))
+def test_shape_kinds_validate(shape, parsed):
+    sh = parse_scenario(scenario(body2__shape=shape)).body2.shape
+    assert sh.kind == shape["kind"]
+    for key, value in parsed.items():  # in SI units
+        got = getattr(sh, key)
+        assert got == (pytest.approx(value, rel=1e-12) if isinstance(value, float) else value), key
 
 
 #: What each kind needs on top of BASE to be a complete scenario.
@@ -294,7 +306,6 @@ def test_grid_size_is_required_without_a_file():
         build_problem(parse_scenario(scenario(grid__size=None)))
 
 
-@needs_park
 def test_file_roughness_from_the_park_scan():
     sc = parse_scenario(scenario(grid__size=None, body1__roughness={"kind": "file", "path": str(PARK)}))
     pb = build_problem(sc)

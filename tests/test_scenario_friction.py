@@ -230,11 +230,18 @@ def test_partial_slip_errors(changes, field, words):
 
 # ----------------------------------------------------------------------------- kind = hysteresis
 def test_hysteresis_variants():
-    parse_scenario(scenario(HYST))
-    parse_scenario(scenario(HYST, friction__slip="incremental"))
+    sc = parse_scenario(scenario(HYST))
+    assert sc.kind == "hysteresis" and sc.friction.coefficient == 0.2
+    p = sc.friction.path
+    assert (p.control, p.amplitude, p.stroke, p.cycles, p.steps) == ("force", 0.999, None, 3, 80)
+    assert parse_scenario(scenario(HYST, friction__slip="incremental")).friction.slip == "incremental"
     # frictionless under displacement control: a valid (trivial) loop
-    parse_scenario(scenario(HYST, friction__coefficient=0,
-                            friction__path={"control": "displacement", "stroke": "3 um", "cycles": 1, "steps": 4}))
+    sc = parse_scenario(scenario(HYST, friction__coefficient=0,
+                                 friction__path={"control": "displacement", "stroke": "3 um", "cycles": 1, "steps": 4}))
+    p = sc.friction.path
+    assert sc.friction.coefficient == 0
+    assert (p.control, p.amplitude, p.cycles, p.steps) == ("displacement", None, 1, 4)
+    assert p.stroke == pytest.approx(3e-6, rel=1e-12)
 
 
 @pytest.mark.parametrize(

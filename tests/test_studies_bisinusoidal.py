@@ -8,9 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tribobem import Grid
-from tribobem.errors import InputError
-from tribobem.studies.bisinusoidal import (
+from studies.bisinusoidal import (
     PAPER_A_TABLE1,
     bisinusoidal_cell,
     bisinusoidal_gap,
@@ -18,6 +16,8 @@ from tribobem.studies.bisinusoidal import (
     fit_pull_off,
     pull_off_point,
 )
+from tribobem import Grid
+from tribobem.errors import InputError
 
 
 def test_cell_gives_the_crest_radius_and_ratio():

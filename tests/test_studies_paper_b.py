@@ -1,4 +1,4 @@
-"""The Paper B 4.2 study (tribobem.studies.paper_b, examples/studies/paper_b.py) on its quick
+"""The Paper B 4.2 study (studies.paper_b, examples/studies/paper_b.py) on its quick
 cell: the sweep file is the library's, the quick sweep runs and gathers, the findings table
 and the figure are written, and the script keeps the published data untouched.  Also the
 Paper C study's sweep (spots, rms scaling) without running it."""
@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tribobem.studies import paper_b
+from studies import paper_b
 from tribobem.sweep import load_sweep, run_sweep
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -96,10 +96,9 @@ def test_script_quick_run_writes_to_out_only(tmp_path, monkeypatch):
 
 def test_paper_c_sweep_spots_and_rms():
     from tribobem.scenario import parse_scenario
-    from tribobem.studies import paper_c
+    from studies import paper_c
 
-    if not paper_c.PARK_SCAN.is_file():
-        pytest.skip("shared topography folder not present")
+    assert paper_c.PARK_SCAN.is_file()  # shipped with tribobem (tribobem.data)
     sw = paper_c.spot_windows()
     assert len(sw["spots"]) == 5 and sw["cells"] == 170
     spec = load_sweep(paper_c.sweep_spec())

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from tribobem.studies.paper_d import PAPER_D_TABLE1, md_reference, paper_d_case, resolution_summary, study_table
+from studies.paper_d import PAPER_D_TABLE1, md_reference, paper_d_case, resolution_summary, study_table
 
 F0 = 10e-6
 MU = 0.2

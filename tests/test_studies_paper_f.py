@@ -1,4 +1,4 @@
-"""The Paper F study (tribobem.studies.paper_f) and its example scenario: the cases, the smooth-ball
+"""The Paper F study (studies.paper_f) and its example scenario: the cases, the smooth-ball
 references, the roughness scaling, and one tiny case end to end (32^2, one cycle)."""
 
 from __future__ import annotations
@@ -11,13 +11,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from studies import paper_f as pf
+from tribobem.data import topography_path
 from tribobem.errors import InputError
-from tribobem.studies import paper_f as pf
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = REPO / "examples" / "hysteresis_paper_f_pom.toml"
-PLU = REPO.parent / "shared" / "data" / "topographies" / "plu-1.plu"
-needs_data = pytest.mark.skipif(not PLU.is_file(), reason="shared topography folder not present")
+#: The measured confocal scan shipped with tribobem (tribobem.data; no skip: it is always there).
+PLU = topography_path("plu-1.plu")
 
 
 def test_cases_follow_tables_1_and_2():
@@ -59,7 +60,7 @@ def test_smooth_ball_references():
 
 
 def test_mindlin_references_match_the_analytic_module():
-    mindlin = pytest.importorskip("tribobem.analytic.mindlin")
+    from tribobem.analytic import mindlin  # our own module: an ImportError fails, not skips
     c = pf.cases(("HDPE",), (75,))[0]
     a, k, muP = pf.hertz_radius(c), pf.compliance(c), c.mu * c.force
     assert pf.mindlin_delta0(c) == pytest.approx(mindlin.mindlin_delta0(P=c.force, a=a, mu=c.mu, k=k))
@@ -68,7 +69,6 @@ def test_mindlin_references_match_the_analytic_module():
         assert pf.mindlin_branch_stiffness(c, F) == pytest.approx(float(ref), rel=1e-9)
 
 
-@needs_data
 def test_roughness_scaling_and_scenario():
     full = pf.full_scan_rms(PLU)
     assert 15e-9 < full < 22e-9  # the flattened scan (README's 2.83 um is the tilt and the form)
@@ -85,7 +85,6 @@ def test_roughness_scaling_and_scenario():
     assert s.body1.roughness.kind == "none" and s.body2.shape.radius == 5e-3
 
 
-@needs_data
 def test_example_scenario_is_the_study_case():
     """examples/hysteresis_paper_f_pom.toml is the POM 50 mN case at 64^2 with the study's scaling."""
     from tribobem.scenario import load_scenario
@@ -112,7 +111,6 @@ def test_keep_states_restores_the_runner():
     assert runner.hysteresis_loop is original
 
 
-@needs_data
 def test_tiny_case_end_to_end(tmp_path):
     """HDPE 50 mN at 32^2 (10 um cells), 48 steps, one cycle: the workflow runs, K_L is fitted,
     falls from A to C and lies near the smooth-ball Mindlin-Deresiewicz slope; the record is
@@ -144,7 +142,7 @@ def test_tiny_case_end_to_end(tmp_path):
     assert f["all_fall"] is True and f["all_POM_stiffer"] is None
     assert pf.plot_loops([rec], tmp_path / "loops.png").stat().st_size > 20_000
     assert pf.plot_maps([rec], tmp_path / "maps.png").stat().st_size > 10_000
-    from tribobem.loops import fit_branch, loop_from_summary
+    from tribobem.analysis.loops import fit_branch, loop_from_summary
 
     fit = fit_branch(loop_from_summary(folder))
     assert fit.c1 == pytest.approx(rec["fit"]["c1"])

@@ -8,23 +8,17 @@ from __future__ import annotations
 
 import importlib.util
 import math
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from tribobem.data import topography_path
+
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples" / "studies"
-
-
-def _data_dir() -> Path:
-    env = os.environ.get("TRIBOBEM_DATA_DIR")
-    return Path(env) if env else ROOT.parent / "shared" / "data" / "topographies"
-
-
-PARK = _data_dir() / "example_ps.tiff"
-needs_data = pytest.mark.skipif(not PARK.is_file(), reason=f"measured topographies not found ({PARK.parent})")
+#: The measured Park AFM scan shipped with tribobem (tribobem.data; no skip: it is always there).
+PARK = topography_path("example_ps.tiff")
 
 
 def _docs_stamps() -> dict:
@@ -107,7 +101,7 @@ def test_small_roughness_raises_adhesion_share(quick_rough):
 
 
 def test_rough_ball_study_api_and_table():
-    from tribobem.studies.rough_ball import calibrate_correlation_length, peak_summary, rough_ball_study, study_table
+    from studies.rough_ball import calibrate_correlation_length, peak_summary, rough_ball_study, study_table
     from tribobem.errors import InputError
     from tribobem.geometry import gaussian_surface, rms_slope
     from tribobem.grid import Grid
@@ -124,9 +118,8 @@ def test_rough_ball_study_api_and_table():
         rough_ball_study([-1e-9])
 
 
-@needs_data
 def test_afm_spots_on_park_scan():
-    from tribobem.studies.afm_pulloff import afm_pull_off_spots, spot_origins
+    from studies.afm_pulloff import afm_pull_off_spots, spot_origins
 
     # five non-overlapping windows: corners and centre of a 3 x 3 lattice
     o = spot_origins((512, 512), (170, 170), 5)
@@ -148,7 +141,6 @@ def test_afm_spots_on_park_scan():
         afm_pull_off_spots(PARK, n_spots=5, window=0.6e-6)
 
 
-@needs_data
 def test_afm_example_quick(tmp_path):
     mod = _load_example("afm_pulloff")
     before = _docs_stamps()
@@ -159,5 +151,14 @@ def test_afm_example_quick(tmp_path):
     t = pd.read_csv(tmp_path / "data" / "afm_pulloff_quick.csv")
     assert len(t) == 10 and np.all(t["pull_off_force"] < 0)
     s = pd.read_csv(tmp_path / "data" / "afm_pulloff_summary_quick.csv")
-    assert len(s) == 2 and np.all(s["std"] >= 0)
+    assert len(s) == 2 and list(s["case"]) == list(dict.fromkeys(t["case"]))
+    # each case's summary is the statistics of its spots in the per-spot table (sample std,
+    # ddof = 1); the spots differ, so the spread is positive and within the range
+    for _, row in s.iterrows():
+        f = t.loc[t["case"] == row["case"], "pull_off_force"].to_numpy()
+        assert row["n_spots"] == len(f) == 5
+        assert row["mean"] == pytest.approx(f.mean(), rel=1e-9)
+        assert row["std"] == pytest.approx(f.std(ddof=1), rel=1e-9)
+        assert row["min"] == pytest.approx(f.min(), rel=1e-12) and row["max"] == pytest.approx(f.max(), rel=1e-12)
+        assert 0 < row["std"] < row["max"] - row["min"]
     assert (tmp_path / "figures" / "afm_pulloff_quick.png").is_file()

@@ -2,7 +2,7 @@
 
 A smooth SiO2 sphere (R = 2.5 um) on Si with Dugdale adhesion (dgamma = 88 mJ/m^2, z0 = 0.3 nm,
 vacuum: no water), unloaded from a 100 nN preload on five non-overlapping windows ("spots")
-of each measured scan in ../shared/data/topographies:
+of each measured scan shipped with tribobem (``tribobem.data``):
 
 * Park AFM ``example_ps.tiff`` (1 um, 512^2, rms 3.9 nm): windows of 1/3 um at the scan's
   own pixel (1.95 nm);
@@ -25,14 +25,14 @@ Writes ``<out>/data/afm_pulloff.csv`` (one row per spot), ``<out>/data/afm_pullo
 (mean, std and references per case) and ``<out>/figures/afm_pulloff.png`` (``<out>`` =
 ``--out``, default ``results/afm_pulloff``; ``--quick`` adds ``_quick``).  The repository's
 published files (``docs/data/afm_pulloff*.csv``, ``docs/figures/afm_pulloff.png``) are written
-only with ``--publish`` (not with ``--quick``).  The data folder is found from
-``TRIBOBEM_DATA_DIR`` or ``<repo>/../shared/data/topographies``.
+only with ``--publish`` (not with ``--quick``).  The data folder is
+:func:`tribobem.data.topography_dir` (the files shipped with the package; ``TRIBOBEM_DATA_DIR``
+replaces it), or ``--data``.
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 import shutil
 import sys
 import time
@@ -41,15 +41,18 @@ from pathlib import Path
 
 import numpy as np
 
-from tribobem.errors import ConvergenceWarning
-from tribobem.studies.afm_pulloff import afm_pull_off_spots
-
 ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the repository root
+    sys.path.insert(0, str(ROOT))
+
+from studies.afm_pulloff import afm_pull_off_spots
+from tribobem.data import topography_dir
+from tribobem.errors import ConvergenceWarning
 
 
 def data_dir() -> Path:
-    env = os.environ.get("TRIBOBEM_DATA_DIR")
-    return Path(env) if env else ROOT.parent / "shared" / "data" / "topographies"
+    """The folder of the measured files: tribobem's data folder (``TRIBOBEM_DATA_DIR`` replaces it)."""
+    return topography_dir()
 
 
 def cases(quick: bool) -> list[dict]:

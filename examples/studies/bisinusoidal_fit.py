@@ -39,10 +39,13 @@ from pathlib import Path
 
 import numpy as np
 
-from tribobem.studies.bisinusoidal import PAPER_A_FIT, PAPER_A_TABLE1, fit_pull_off
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the repository root
+    sys.path.insert(0, str(ROOT))
+
+from studies.bisinusoidal import PAPER_A_FIT, PAPER_A_TABLE1, fit_pull_off
 from tribobem.sweep import atomic_path, atomic_write_text, to_si
 
-ROOT = Path(__file__).resolve().parents[2]
 #: The published table and figure (written only with --publish).
 DATA = ROOT / "docs" / "data" / "bisinusoidal_pulloff.csv"
 FIGURE = ROOT / "docs" / "figures" / "bisinusoidal_pulloff.png"

@@ -7,7 +7,7 @@ against relative humidity (L_ac, rms, realisations, 5000 uN, uniform vs levelled
     python examples/studies/paper_b.py --publish        # ... and write docs/data, docs/figures
 
 1. runs the sweep ``examples/studies/paper_b.toml`` (the same as
-   ``tribobem.studies.paper_b.sweep_spec()``; 14 cases, each a ``capillary`` run over 12 RH on
+   ``studies.paper_b.sweep_spec()``; 14 cases, each a ``capillary`` run over 12 RH on
    256^2 cells) into ``--out`` (default ``results/paper_b``; resumable: finished cases are kept,
    ``--max-points`` runs at most that many of the missing ones).  The same as
    ``tribobem sweep examples/studies/paper_b.toml --out results/paper_b``;
@@ -17,7 +17,7 @@ against relative humidity (L_ac, rms, realisations, 5000 uN, uniform vs levelled
    ``docs/data/paper_b_findings.csv`` and ``docs/figures/paper_b.png``.
 
 The choices Paper B leaves open (dgamma, z0, Hamaker constants, the flat's material) are listed
-in :mod:`tribobem.studies.paper_b`.
+in :mod:`studies.paper_b`.
 """
 
 from __future__ import annotations
@@ -29,6 +29,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the repository root
+    sys.path.insert(0, str(ROOT))
 SWEEP = ROOT / "examples" / "studies" / "paper_b.toml"
 
 
@@ -47,7 +49,7 @@ def main(argv=None) -> int:
         ap.error("--publish writes the repository's published data: not from a --quick run")
     out = args.out or ROOT / "results" / ("paper_b_quick" if args.quick else "paper_b")
 
-    from tribobem.studies.paper_b import findings, gather, plot_study, sweep_spec
+    from studies.paper_b import findings, gather, plot_study, sweep_spec
     from tribobem.sweep import run_sweep
 
     spec = sweep_spec(quick=True) if args.quick else SWEEP

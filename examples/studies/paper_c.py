@@ -12,8 +12,9 @@ Writes ``<out>/paper_c.csv`` (one row per spot, substrate and state),
 ``<out>/paper_c_summary.csv`` (mean and spread) and ``<out>/paper_c.png`` into ``--out``
 (default ``results/paper_c``); with ``--publish`` (full study only) also
 ``docs/data/paper_c.csv``, ``docs/data/paper_c_summary.csv`` and ``docs/figures/paper_c.png``.
-Needs the measured scan ``../shared/data/topographies/example_ps.tiff`` (``--scan``).  The
-set-up and what stands in for what is in :mod:`tribobem.studies.paper_c`.
+Uses the measured scan ``example_ps.tiff`` shipped with tribobem (``tribobem.data``; another one
+with ``--scan``).  The
+set-up and what stands in for what is in :mod:`studies.paper_c`.
 """
 
 from __future__ import annotations
@@ -25,10 +26,12 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the repository root
+    sys.path.insert(0, str(ROOT))
 
 
 def main(argv=None) -> int:
-    from tribobem.studies.paper_c import PARK_SCAN
+    from studies.paper_c import PARK_SCAN
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", type=Path, default=None,
@@ -44,10 +47,11 @@ def main(argv=None) -> int:
     if args.publish and args.quick:
         ap.error("--publish writes the repository's published data: not from a --quick run")
     if not args.scan.is_file():
-        ap.error(f"the measured scan {args.scan} is not there (see ../shared/data/topographies/README.md)")
+        ap.error(f"the measured scan {args.scan} is not there (tribobem.data.topography_path; "
+                 f"TRIBOBEM_DATA_DIR replaces the shipped folder)")
     out = args.out or ROOT / "results" / ("paper_c_quick" if args.quick else "paper_c")
 
-    from tribobem.studies.paper_c import gather, plot_study, summary_table, sweep_spec
+    from studies.paper_c import gather, plot_study, summary_table, sweep_spec
     from tribobem.sweep import run_sweep
 
     spec = sweep_spec(args.scan, quick=args.quick)

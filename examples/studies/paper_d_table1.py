@@ -31,9 +31,12 @@ from pathlib import Path
 
 import numpy as np
 
-from tribobem.studies.paper_d import PAPER_D_TABLE1, paper_d_table1, resolution_summary, study_table, zero_state
-
 ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the repository root
+    sys.path.insert(0, str(ROOT))
+
+from studies.paper_d import PAPER_D_TABLE1, paper_d_table1, resolution_summary, study_table, zero_state
+
 TABOR = [0.0, 0.5, 1.0, 2.0]
 FULL_GRIDS = [64, 96, 128, 192]
 #: F_x = 0 states alone (F0- and the cohesive zone against Maugis-Dugdale) on finer grids than

@@ -18,7 +18,7 @@ grid convergence of F0+) and ``paper_e_loops.png``.  ``--publish`` copies the lo
 figure to ``docs/data/paper_e_loops.csv`` and ``docs/figures/paper_e_loops.png``.
 
 F* is 0.999 x the gross-slip onset of the first loading (``peak = "onset"``, see
-:func:`tribobem.studies.paper_e.paper_e_loop`): in this model the stick zone vanishes at
+:func:`studies.paper_e.paper_e_loop`): in this model the stick zone vanishes at
 ~0.97 mu F0+ and, with adhesion, mu F0+ of A is not carried at all (the shear lowers F0+);
 ``--literal`` adds loops at Paper E's F* = 0.999 mu F0+ (adapted just below the largest carried
 force), whose turning points are in full slip.
@@ -34,11 +34,14 @@ from pathlib import Path
 
 import numpy as np
 
-from tribobem.studies.paper_e import (
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the repository root
+    sys.path.insert(0, str(ROOT))
+
+from studies.paper_e import (
     PAPER_E_SMOOTH_REPULSIVE_FORCE, WORKS, loop_metrics, loops_table, paper_e_loop, start_state, summary_table,
 )
 
-ROOT = Path(__file__).resolve().parents[2]
 FULL = {"n": 128, "steps": 32, "start_grids": [256, 384, 512]}
 QUICK = {"n": 48, "steps": 12, "start_grids": [96]}
 COLORS = {0.0: "k", 0.05: "C0", 0.1: "C3"}

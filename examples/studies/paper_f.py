@@ -13,13 +13,13 @@ are read back when the command is repeated with the same parameters (``--force``
 ``<out>`` (default ``results/paper_f``) receives ``paper_f_stiffness.csv``, ``paper_f_cases.json``,
 ``paper_f_loops.png`` and ``paper_f_maps.png``.
 
-The measured roughness: ``../shared/data/topographies/plu-1.plu`` (Sensofar confocal, 1.27 x
-0.96 mm) stands in for the ball scans.  Its rms after removing the mean only (2.83 um) is a tilt
+The measured roughness: ``plu-1.plu``, shipped with tribobem (``tribobem.data``; Sensofar
+confocal, 1.27 x 0.96 mm) stands in for the ball scans.  Its rms after removing the mean only (2.83 um) is a tilt
 and the ball's form; with the best quadratic removed it is 18.2 nm.  The whole flattened scan is
 scaled to Paper F Table 2's rms (3.17 um HDPE, 0.67 um POM) and its central window (320 um HDPE,
 240 um POM: every contact of a 600 um normal-contact check lies inside) is resampled onto the
 grid.  The grid and step count fit the compute budget of a 2-core machine (about 3 min per case
-at 96^2); see :mod:`tribobem.studies.paper_f` for every choice.
+at 96^2); see :mod:`studies.paper_f` for every choice.
 """
 
 from __future__ import annotations
@@ -31,9 +31,11 @@ import sys
 import time
 from pathlib import Path
 
-from tribobem.studies import paper_f as pf
-
 ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the repository root
+    sys.path.insert(0, str(ROOT))
+
+from studies import paper_f as pf
 
 
 def _fmt(v, scale=1.0, spec=".4g"):
@@ -71,7 +73,7 @@ def main(argv=None) -> int:
     ap.add_argument("--steps", type=int, default=None, help=f"steps per cycle (default {pf.STEPS_DEFAULT})")
     ap.add_argument("--cycles", type=int, default=None, help=f"displacement cycles (default {pf.CYCLES_DEFAULT})")
     ap.add_argument("--size", type=float, default=None, help="domain side in m (default: 320 um HDPE, 240 um POM)")
-    ap.add_argument("--topography", type=Path, default=None, help="ball topography (default: shared plu-1.plu)")
+    ap.add_argument("--topography", type=Path, default=None, help="ball topography (default: plu-1.plu shipped with tribobem)")
     ap.add_argument("--force", action="store_true", help="recompute finished cases")
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args(argv)

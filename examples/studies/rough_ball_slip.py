@@ -33,6 +33,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the repository root
+    sys.path.insert(0, str(ROOT))
 SWEEP = ROOT / "examples" / "studies" / "rough_ball_slip.toml"
 FLAT = ROOT / "results" / "rough_ball_slip_flat.npy"
 #: Stick-zone tracks (Paper D Fig. 3) on the smooth ball: 128^2 cells on the central 1.25 um
@@ -53,7 +55,7 @@ def stick_zone_tracks(quiet: bool = False) -> dict:
     """Run the TRACKS on the study's base scenario (smooth flat, 128^2 on 1.25 um)."""
     import tomllib
 
-    from tribobem.studies.rough_slip import stick_zone_track
+    from studies.rough_slip import stick_zone_track
 
     base_file = ROOT / "examples" / "studies" / "rough_ball_slip_base.toml"
     out = {}
@@ -85,7 +87,7 @@ def main(argv=None) -> int:
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args(argv)
 
-    from tribobem.studies.rough_slip import (gather, paper_d_checks, plot_study, repulsive_force_scan,
+    from studies.rough_slip import (gather, paper_d_checks, plot_study, repulsive_force_scan,
                                              study_table, work_of_adhesion, write_flat)
     from tribobem.sweep import run_sweep
 

@@ -22,9 +22,12 @@ from pathlib import Path
 
 import numpy as np
 
-from tribobem.studies.rough_ball import peak_summary, rough_ball_study, study_table
-
 ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the repository root
+    sys.path.insert(0, str(ROOT))
+
+from studies.rough_ball import peak_summary, rough_ball_study, study_table
+
 Z0 = 0.25e-9
 FULL_RMS_OVER_Z0 = [0, 0.25, 0.5, 1, 2, 4, 10, 20, 50, 100]
 QUICK_RMS_OVER_Z0 = [0, 2, 20]

@@ -53,7 +53,7 @@ def package_version() -> str:
 
         return version("tribobem")
     except (ImportError, PackageNotFoundError):  # pragma: no cover - run from a source tree
-        from . import __version__
+        from ._version import __version__
 
         return __version__
 
@@ -72,8 +72,6 @@ def _main(
                                  help="Print the package version and the solver version, and exit."),
 ):
     """FFT-accelerated boundary-element contact mechanics: adhesive, frictional contact of rough surfaces."""
-
-DEMO_FILE = "example_ps.tiff"
 
 
 #: Console width when stdout is not a terminal (a pipe, a file, a CI log): Rich would fall back to
@@ -234,23 +232,6 @@ def _run(scenario, out: Path, quiet: bool, as_json: bool, base_dir=None) -> dict
 
 
 # ----------------------------------------------------------------------------- demo
-def find_data_dir() -> Path | None:
-    """The shared topography folder: ``$TRIBOBEM_DATA_DIR``, else ``../shared/data/topographies``
-    relative to the current directory or to the repository root; None if absent."""
-    env = os.environ.get("TRIBOBEM_DATA_DIR")
-    candidates = []
-    if env:
-        candidates.append(Path(env))
-    candidates.append(Path.cwd() / ".." / "shared" / "data" / "topographies")
-    repo = Path(__file__).resolve().parents[2]  # src/tribobem/cli.py -> repo root
-    candidates.append(repo.parent / "shared" / "data" / "topographies")
-    candidates.append(repo / ".." / "shared" / "data" / "topographies")
-    for c in candidates:
-        if (c / DEMO_FILE).is_file():
-            return c.resolve()
-    return None
-
-
 def demo_scenario(small: bool = False) -> tuple[dict, str]:
     """The embedded demo scenario (dict) and a one-line description of it.
 
@@ -425,7 +406,9 @@ def _g(v, fmt: str = ".5g") -> str:
 # ----------------------------------------------------------------------------- info
 @app.command()
 def info(
-    topography: Path = typer.Argument(..., help="Topography file (AFM, confocal, .x3p, .npy, text, ...)."),
+    topography: Path = typer.Argument(..., help="Topography file (AFM, confocal, .x3p, .npy, text, ...), or "
+                                                "data:NAME for a measured file shipped with tribobem "
+                                                "(e.g. data:example_ps.tiff; folder: $TRIBOBEM_DATA_DIR if set)."),
     as_json: bool = typer.Option(False, "--json/--no-json", help="Print the statistics as JSON."),
     channel: Optional[str] = typer.Option(None, "--channel", help="Channel name or index."),
     detrend: str = typer.Option("center", "--detrend", help="none | center | height | curvature"),
@@ -437,8 +420,11 @@ def info(
 ):
     """Read a measured topography and print its size and statistics (SI after detrending)."""
     with _user_errors():
+        from .data import DATA_PREFIX, topography_path
         from .units import format_quantity
 
+        if str(topography).startswith(DATA_PREFIX):
+            topography = topography_path(str(topography))
         if not topography.exists():
             raise FileNotFoundError(f"topography file {topography} not found")
         ch = int(channel) if channel is not None and channel.isdigit() else channel
@@ -620,7 +606,8 @@ def compare_loop(
     A, B, C: F = -0.5, 0, 0.5 x the force scale (simulated: mu F0+; measured: F* = max |F| of the record).
     """
     with _user_errors():
-        from .loops import compare_loops
+        from .analysis.loops import compare_loops
+        from .output.loops import comparison_figure
         from .units import format_quantity
 
         if not result.exists():
@@ -629,7 +616,8 @@ def compare_loop(
             raise FileNotFoundError(f"measured loop {measured} not found")
         folder = result.parent if result.is_file() else result
         figure = out if out is not None else folder / "compare_loop.png"
-        cmp = compare_loops(result, measured, figure=figure, center=center)
+        cmp = compare_loops(result, measured)
+        comparison_figure(cmp, figure, center=center)
         if as_json:
             from .output.summary import jsonable
 

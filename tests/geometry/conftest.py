@@ -1,11 +1,12 @@
 """Fixtures of the geometry tests."""
 
-import os
 from pathlib import Path
 
 import pytest
 
-#: Values of /work/shared/data/topographies/README.md: grid, size (m), rms height after
+from tribobem.data import topography_dir as _topography_dir
+
+#: Values of tribobem/data/topographies/README.md: grid, size (m), rms height after
 #: detrend("center") (m), rms slope (-).
 TOPOGRAPHY_FILES = {
     "example_ps.tiff": ((512, 512), (1e-6, 1e-6), 3.933e-9, 0.385),
@@ -17,12 +18,7 @@ TOPOGRAPHY_FILES = {
 
 @pytest.fixture(scope="session")
 def topography_dir() -> Path:
-    """Folder of the measured example topographies (skips the test if absent).
-
-    ``$TRIBOBEM_TOPOGRAPHY_DIR`` if set, else ``<repo>/../shared/data/topographies``.
-    """
-    env = os.environ.get("TRIBOBEM_TOPOGRAPHY_DIR")
-    path = Path(env) if env else Path(__file__).resolve().parents[2].parent / "shared" / "data" / "topographies"
-    if not path.is_dir():
-        pytest.skip(f"measured topographies not found at {path}")
-    return path
+    """Folder of the measured example topographies: the copy shipped with tribobem
+    (:func:`tribobem.data.topography_dir`; ``$TRIBOBEM_DATA_DIR`` replaces it).  No skip: the
+    files are package data, always there."""
+    return _topography_dir()

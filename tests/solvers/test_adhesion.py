@@ -413,7 +413,7 @@ def test_pull_off_of_a_periodic_bisinusoid_from_a_full_contact_preload():
     from tribobem.materials import ContactPair, Material
     from tribobem.output.checks import result_warnings
     from tribobem.solvers.paths import pull_off
-    from tribobem.studies.bisinusoidal import bisinusoidal_cell, bisinusoidal_gap, bisinusoidal_pull_off
+    from tribobem.validation.bisinusoidal import bisinusoidal_cell, bisinusoidal_gap, bisinusoidal_pull_off
 
     R_c, S, E, dg, z0, n = 20e-6, 5e-9, 100e9, 0.05, 0.3e-9, 256
     lx, ly = bisinusoidal_cell(R_c, 1.0, S)

@@ -25,10 +25,11 @@ import numpy as np
 import pytest
 
 from tribobem import ConvergenceError, ConvergenceWarning, InputError
+from tribobem.elasticity.tangential import tangential_operator
 from tribobem.solvers.coupling import solve_coupled
 from tribobem.solvers.normal import solve_normal
 from tribobem.solvers.slip_paths import normal_path, tangential_ramp
-from tribobem.solvers.tangential import GrossSlipError, solve_tangential, tangential_operator
+from tribobem.solvers.tangential import GrossSlipError, solve_tangential
 from tribobem.validation.tangential import _mindlin_k, cattaneo_problem, paper_d_problem
 
 P, MU = 10.0, 0.3          # Cattaneo: normal force (N), friction coefficient

@@ -17,11 +17,12 @@ import numpy as np
 import pytest
 
 import tribobem.solvers.tangential as T
+from tribobem.elasticity.tangential import tangential_operator
 from tribobem.errors import ConvergenceWarning
 from tribobem.grid import Grid
 from tribobem.solvers.coupling import solve_coupled
 from tribobem.solvers.normal import solve_normal
-from tribobem.solvers.tangential import solve_tangential, tangential_operator
+from tribobem.solvers.tangential import solve_tangential
 from tribobem.validation.tangential import cattaneo_problem, paper_d_problem
 
 TOL = 1e-9

@@ -51,16 +51,20 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
+from ..output.summary import read_summary
+from ..units import UnitMismatch, convert
 
 __all__ = [
     "MIN_POINTS", "MIN_FIT_POINTS", "Loop", "BranchFit", "LoopComparison",
     "read_loop", "loop_from_summary", "turning_points", "last_branch", "fit_branch", "stiffness_points",
-    "compare_loops", "comparison_figure",
+    "compare_loops", "fit_eq3", "STIFFNESS_POINTS",
 ]
 
 #: A measured loop needs at least this many points.
 MIN_POINTS = 10
+#: Paper F's points on the branch from -F* to +F*: F_x / (mu F0+) (measured loops: / max |F|).
+STIFFNESS_POINTS = {"A": -0.5, "B": 0.0, "C": 0.5}
 #: Points (turning point included) of the pre-sliding part needed for the Eq. 3 fit.
 MIN_FIT_POINTS = 5
 #: Reversals of the displacement smaller than this fraction of its range are noise.
@@ -188,7 +192,6 @@ def _match(name: str, names) -> bool:
 
 
 def _unit_factor(path, line, column: str, unit: str | None, dimension: str, example: str) -> float:
-    from .units import UnitMismatch, convert
 
     if unit is None or not unit.strip():
         raise _err(path, line, f"column {column!r} has no unit: write it in the header as {example}")
@@ -291,7 +294,6 @@ def read_loop(path) -> Loop:
 def loop_from_summary(result) -> Loop:
     """The simulated loop of a hysteresis result (a folder with summary.json, the file, or the
     summary dict), projected on the path direction; ``force_scale = mu F0+``."""
-    from .output.summary import read_summary
 
     if isinstance(result, dict):
         summary, source = result, "summary"
@@ -441,6 +443,9 @@ def fit_eq3(x, y) -> tuple[tuple[float, float, float], float]:
     x = np.asarray(x, float)
     y = np.asarray(y, float)
     dmax, fmax = float(x.max()), float(y.max())
+    if not (dmax > 0 and fmax > 0):
+        raise InputError("lateral_stiffness", "the branch has no rising force and displacement to fit "
+                                              f"(largest displacement {dmax:.3g} m, force {fmax:.3g} N)")
     lo = np.array([0.5 * fmax, 1e-6 / dmax, 1.0])
     hi = np.array([10.0 * fmax, 1.0 / dmax, 5.0])
 
@@ -533,8 +538,6 @@ def stiffness_points(loop: Loop, fit: BranchFit, points=None) -> list[dict]:
     reaches that force; NaN when the point is not on the fitted pre-sliding part), ``stiffness``
     (N/m, NaN likewise).
     """
-    from .runs.hysteresis import STIFFNESS_POINTS
-
     points = STIFFNESS_POINTS if points is None else points
     top = fit.turn_force + float(np.max(loop.force[fit.start:fit.fit_end + 1] - fit.turn_force))
     rows = []
@@ -556,6 +559,7 @@ class LoopComparison:
     simulated_fit: BranchFit
     measured_fit: BranchFit
     rows: list
+    #: The overlay figure once drawn (:func:`tribobem.output.loops.comparison_figure`).
     figure: Path | None = None
 
     def as_dict(self) -> dict:
@@ -575,8 +579,7 @@ class LoopComparison:
         }
 
 
-def compare_loops(result, measured, figure=None, center: bool = True,
-                  plateau_fraction: float = 0.98) -> LoopComparison:
+def compare_loops(result, measured, plateau_fraction: float = 0.98) -> LoopComparison:
     """Compare a simulated hysteresis loop with a measured one by K_L at A, B, C.
 
     Parameters
@@ -585,11 +588,9 @@ def compare_loops(result, measured, figure=None, center: bool = True,
         Result folder of a hysteresis run (or its summary.json, or the summary dict).
     measured : path-like or Loop
         Measured loop file (:func:`read_loop`) or a loop.
-    figure : path-like, optional
-        Write the overlay figure there (PNG).
-    center : bool
-        In the figure, shift each loop so that its displacement range is centred on 0 (a
-        measured path 0 -> d_s and a simulated one -d_s/2 -> d_s/2 then overlay).
+    plateau_fraction : float
+        The pre-sliding part of a branch ends where the force first reaches this fraction of
+        its plateau (:func:`fit_branch`).
 
     Returns
     -------
@@ -608,71 +609,4 @@ def compare_loops(result, measured, figure=None, center: bool = True,
                                                     and b["stiffness"] != 0) else math.nan
         rows.append({"point": a["point"], "force_ratio": a["force_ratio"], "simulated": a, "measured": b,
                      "ratio": ratio})
-    cmp = LoopComparison(sim, meas, fs, fm, rows)
-    if figure is not None:
-        cmp.figure = comparison_figure(cmp, figure, center=center)
-    return cmp
-
-
-def comparison_figure(cmp: LoopComparison, path, center: bool = True) -> Path:
-    """Two panels: (a) the loops overlaid; (b) the pre-sliding branches from their turning
-    points with the Eq. 3 fits and the points A, B, C."""
-    import io
-
-    from matplotlib.figure import Figure
-
-    from .output.summary import atomic_write_bytes
-    from .units import display_unit
-
-    sim, meas = cmp.simulated, cmp.measured
-    fl, ll = display_unit(np.concatenate([sim.displacement, meas.displacement]), "length")
-    ff, lf = display_unit(np.concatenate([sim.force, meas.force]), "force")
-    fig = Figure(figsize=(11.5, 4.6), layout="constrained")
-    ax1, ax2 = fig.subplots(1, 2)
-    styles = {"simulated": dict(color="C0"), "measured": dict(color="C3")}
-    for loop, fit in ((sim, cmp.simulated_fit), (meas, cmp.measured_fit)):
-        off = 0.5 * (loop.displacement.max() + loop.displacement.min()) if center else 0.0
-        c = styles[loop.kind]["color"]
-        x = (loop.displacement - off) / fl
-        if loop.kind == "simulated":
-            ax1.plot(x, loop.force / ff, "-", color=c, lw=0.8, alpha=0.45)
-            ax1.plot(x[fit.start:fit.end + 1], loop.force[fit.start:fit.end + 1] / ff, "o-", color=c, ms=2.5,
-                     lw=1.4, label="simulated (last rising branch bold)")
-        else:
-            ax1.plot(x, loop.force / ff, ".", color=c, ms=2, alpha=0.6, label="measured")
-        # branch from its turning point, fit and points
-        sl = slice(fit.start, fit.end + 1)
-        dd = (loop.displacement[sl] - fit.turn_displacement) / fl
-        dF = (loop.force[sl] - fit.turn_force) / ff
-        mk = "o" if loop.kind == "simulated" else "."
-        ax2.plot(dd, dF, mk, color=c, ms=3 if loop.kind == "simulated" else 2, alpha=0.55)
-        xf = np.linspace(0.0, loop.displacement[fit.fit_end] - fit.turn_displacement, 200)
-        ax2.plot(xf / fl, (fit.force(xf + fit.turn_displacement) - fit.turn_force) / ff, "-", color=c, lw=1.6,
-                 label=f"{loop.kind}: Eq. 3 fit, c1 = {fit.c1 / ff:.3g} {lf}, n = {fit.n:.2f}, {fit.points} points")
-        for r in cmp.rows:
-            p = r[loop.kind]
-            if math.isfinite(p["displacement"]):
-                ax2.plot((p["displacement"] - fit.turn_displacement) / fl, (p["force"] - fit.turn_force) / ff, "s",
-                         color=c, mfc="white", ms=7, mew=1.5)
-                ax2.annotate(f"{r['point']}: {p['stiffness'] / 1e3:.3g} kN/m",
-                             ((p["displacement"] - fit.turn_displacement) / fl, (p["force"] - fit.turn_force) / ff),
-                             xytext=(6, -10 if loop.kind == "measured" else 4), textcoords="offset points", fontsize=8,
-                             color=c)
-    ax1.set_xlabel(f"displacement{' - centre of its range' if center else ''} ({ll})")
-    ax1.set_ylabel(f"tangential force ({lf})")
-    ax1.set_title("(a) friction loops", fontsize=10)
-    ax1.legend(fontsize=8)
-    ax1.grid(alpha=0.3)
-    right = max(loop.displacement[fit.fit_end] - fit.turn_displacement
-                for loop, fit in ((sim, cmp.simulated_fit), (meas, cmp.measured_fit)))
-    ax2.set_xlim(-0.03 * right / fl, 1.6 * right / fl)
-    ax2.set_xlabel(f"displacement from the turning point ({ll})")
-    ax2.set_ylabel(f"force from the turning point ({lf})")
-    ax2.set_title("(b) last rising branch from its turning point: Paper F Eq. 3 fits of the pre-sliding part\n"
-                  "K_L at A, B, C: F = -0.5, 0, +0.5 x scale (simulated: \u03bc F0+ = "
-                  f"{sim.force_scale / ff:.4g} {lf}; measured: max|F| = {meas.force_scale / ff:.4g} {lf})", fontsize=9)
-    ax2.legend(fontsize=8, loc="lower right")
-    ax2.grid(alpha=0.3)
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=120)
-    return atomic_write_bytes(Path(path), buf.getvalue())
+    return LoopComparison(sim, meas, fs, fm, rows)

@@ -44,6 +44,7 @@ from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
 from ..errors import InputError
 from .water import Water
+from ..units import to_si
 
 __all__ = [
     "Isotherm",
@@ -510,7 +511,6 @@ def isotherm_from_spec(spec, field: str = "film.isotherm") -> Isotherm:
     InputError
         Unknown name, unknown keys, or an invalid table / FHH parameters.
     """
-    from ..units import to_si
 
     if spec is None:
         return DryIsotherm()

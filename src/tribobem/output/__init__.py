@@ -10,6 +10,7 @@ from .fields import build_fields, read_fields, representative_step, write_fields
 from .figures import FIGURE_NAMES, make_figures
 from .report import render_report, write_report
 from .summary import REQUIRED_KEYS, STEP_KEYS, read_summary, versions, write_summary
+from .atomic import staged
 
 __all__ = [
     "build_fields", "write_fields", "read_fields", "representative_step",
@@ -31,7 +32,6 @@ def write_outputs(outdir, summary: dict, ds=None, *, figures: bool = True, repor
     """
     from pathlib import Path
 
-    from .atomic import staged
 
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
@@ -57,7 +57,6 @@ def replot(result_dir) -> dict:
         raise FileNotFoundError(f"result folder {result_dir} not found")
     summary = read_summary(result_dir / "summary.json")
     ds = read_fields(result_dir / "fields.nc") if (result_dir / "fields.nc").exists() else None
-    from .atomic import staged
 
     with staged():
         figs = make_figures(ds, summary, result_dir)

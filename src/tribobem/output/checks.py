@@ -41,6 +41,7 @@ import math
 from typing import Mapping, Sequence
 
 import numpy as np
+from ..units import format_quantity
 
 __all__ = [
     "result_warnings", "warning_names", "cohesive_cells", "cohesive_gap_step", "patch_width",
@@ -363,7 +364,6 @@ def pull_off_statement(summary: Mapping) -> str:
     E.g. ``"pull-off -0.2549 µN (Maugis-Dugdale ... -0.25 µN, +2.0 %; cohesive zone 10.1 cells
     wide: resolved)"``; "NOT resolved" with the names of the checks that fired.
     """
-    from ..units import format_quantity
 
     f = summary.get("pull_off_force")
     text = f"pull-off {format_quantity(f, 'force', 4)}"

@@ -20,6 +20,7 @@ import numpy as np
 from ..units import display_unit, format_quantity
 from .fields import representative_step
 from .plotting import COLORS, CONTACT_COLORS, map_axes, map_extent, new_figure, save_png, step_title
+from .capillary import capillary_figures, capillary_step, is_capillary
 
 __all__ = ["FIGURE_NAMES", "make_figures", "topography_figure", "pressure_figure", "contact_figure",
            "profile_figure", "force_curve_figure", "stickslip_figure", "stickslip_steps", "stick_ratio_figure",
@@ -1176,7 +1177,6 @@ def make_figures(ds, summary: dict, outdir) -> dict:
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     out = {}
-    from .capillary import capillary_figures, capillary_step, is_capillary
 
     capillary = is_capillary(summary)  # RH steps: their own figures (output.capillary), no force curve
     if capillary:

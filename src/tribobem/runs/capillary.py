@@ -35,6 +35,9 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from .common import solve_kw
 from .kind import ALL, RunKind, RunOutput, fail, require_humidity
+from ..interactions.films import film_thickness
+from ..interactions.menisci import contribution_coefficient
+from ..solvers.capillary import solve_capillary
 
 __all__ = ["run", "check", "KIND", "films_at", "capillary_options", "capillary_row", "step_maps", "STEP_FIELDS"]
 
@@ -57,7 +60,6 @@ def films_at(pb, rh: float, tol: float = 1e-10):
     Computed on each body's undeformed topography (``pb.humidity.surface1/2``) before contact,
     as in the thesis; a dry body gets a zero film.
     """
-    from ..interactions.films import film_thickness
 
     hs = pb.humidity
     out = []
@@ -71,7 +73,6 @@ def films_at(pb, rh: float, tol: float = 1e-10):
 def capillary_options(pb, rh: float) -> dict:
     """The keyword arguments of :func:`~tribobem.solvers.capillary.solve_capillary` at ``rh``
     (all but the load, the films and the warm start)."""
-    from ..interactions.menisci import contribution_coefficient
 
     hs = pb.humidity
     water = hs.water
@@ -147,7 +148,6 @@ def run(pb, bar) -> RunOutput:
     aligned with ``results``) and ``representative`` (the index of the RH with the most tensile
     capillary force, the state ``output.fields = "last"`` keeps).
     """
-    from ..solvers.capillary import solve_capillary
 
     sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
     kw = solve_kw(sc)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from ..solvers.paths import LoadCurve, find_jumps
 
 __all__ = ["solve_kw", "step_row", "curve_from_rows", "offset_progress"]
 
@@ -21,7 +22,6 @@ def step_row(res, branch: str) -> dict:
 
 def curve_from_rows(rows: list, control: str):
     """A LoadCurve (with jumps) from step rows."""
-    from ..solvers.paths import LoadCurve, find_jumps
 
     def col(k, dtype=float):
         return np.array([r[k] for r in rows], dtype=dtype)

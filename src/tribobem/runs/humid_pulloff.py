@@ -38,6 +38,7 @@ from ..errors import ConvergenceWarning
 from .capillary import STEP_FIELDS, capillary_options, capillary_row, films_at, step_maps
 from .common import solve_kw
 from .kind import RunOutput
+from ..solvers.capillary import solve_capillary
 
 __all__ = ["run", "humid_pull_off"]
 
@@ -70,7 +71,6 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
         (lists: approach, force, capillary_force, contact_area, wetted_area, converged, sorted
         from the start outward), ``force``, ``approach``, ``opts`` and ``notes``.
     """
-    from ..solvers.capillary import solve_capillary
 
     opts = capillary_options(pb, rh)
     common = dict(film1=f1.thickness, film2=f2.thickness, tol=tol, max_iterations=max_iterations, **opts)

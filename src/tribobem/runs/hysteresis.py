@@ -9,31 +9,32 @@ the tractions), ``static_friction_force`` (first step without stick on the first
 ``presliding_displacement``, ``sliding_force`` (displacement paths in gross sliding),
 ``lateral_stiffness`` (points A, B, C: F_x/(mu F0+) = -0.5, 0, 0.5 on the last branch from -F*
 to +F*), ``loop_change`` (between the last two loops: max |dF_x| / mu F0+ on displacement paths,
-max |d delta_x| / loop width on force paths).
+max |d delta_x| / loop width on force paths).  The run-level values take F_x and delta_x along
+the load direction (``friction.direction``; the x components for direction 0).
 """
 
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 
+from ..analysis.loops import STIFFNESS_POINTS, fit_eq3
 from ..errors import InputError
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
 from .common import solve_kw
 from .kind import RunKind, RunOutput, fail, positive_normal_load, require_friction
+from ..analytic.mindlin import mindlin_reloading_stiffness, mindlin_virgin_stiffness, mindlin_compliance_k
+from .partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
 
 __all__ = ["run", "check", "KIND", "lateral_stiffness_fit", "STIFFNESS_POINTS"]
 
-#: Paper F's points on the branch from -F* to +F*: F_x / (mu F0+).
-STIFFNESS_POINTS = {"A": -0.5, "B": 0.0, "C": 0.5}
 
 
 def lateral_stiffness_fit(forces, displacements):
     """Fit F = c1 (1 - (1 - c2 d)^n) (Paper F Eq. 3) to a branch measured from its turning point.
 
-    The fit itself is :func:`tribobem.loops.fit_eq3` (bounded least squares from a grid of starts,
+    The fit itself is :func:`tribobem.analysis.loops.fit_eq3` (bounded least squares from a grid of starts,
     so a branch cut before its plateau does not stop in a local minimum); measured loops
     (``tribobem compare-loop``) are fitted by the same function.
 
@@ -46,8 +47,6 @@ def lateral_stiffness_fit(forces, displacements):
     -------
     (c1, c2, n) and a callable K(d) = c1 c2 n (1 - c2 d)^(n - 1) (N/m).
     """
-    from ..loops import fit_eq3
-
     F = np.asarray(forces, float)
     d = np.asarray(displacements, float)
     if len(F) < 4:
@@ -60,8 +59,16 @@ def lateral_stiffness_fit(forces, displacements):
     return (c1, c2, n), K
 
 
-def _stiffness_table(rows, run, mu, f0p, radius, k_compliance):
-    """K_L at A, B, C on the last branch from -F* to +F* (fit from its turning point)."""
+def _along(row, e) -> tuple[float, float]:
+    """(F_t, delta_t) of a step: its tangential force and displacement along the load direction e
+    (x for direction 0)."""
+    return (row["tangential_force_x"] * e[0] + row["tangential_force_y"] * e[1],
+            row["displacement_x"] * e[0] + row["displacement_y"] * e[1])
+
+
+def _stiffness_table(rows, run, mu, f0p, radius, k_compliance, e=(1.0, 0.0)):
+    """K_L at A, B, C on the last branch from -F* to +F* (fit from its turning point), along the
+    load direction ``e``."""
     idx = [i for i, r in enumerate(rows) if r.get("branch") == "reloading"]
     if not idx:
         return [], {}
@@ -75,13 +82,12 @@ def _stiffness_table(rows, run, mu, f0p, radius, k_compliance):
         if rows[i].get("gross_slip"):
             break
     br = pre
-    F0, d0 = rows[turn]["tangential_force_x"], rows[turn]["displacement_x"]
-    F = np.array([rows[i]["tangential_force_x"] for i in br]) - F0
-    D = np.array([rows[i]["displacement_x"] for i in br]) - d0
+    F0, d0 = _along(rows[turn], e)
+    F = np.array([_along(rows[i], e)[0] for i in br]) - F0
+    D = np.array([_along(rows[i], e)[1] for i in br]) - d0
     F = np.concatenate([[0.0], F])
     D = np.concatenate([[0.0], D])
     (c1, c2, n), K = lateral_stiffness_fit(F, D)
-    from ..analytic.mindlin import mindlin_reloading_stiffness, mindlin_virgin_stiffness
 
     Fstar = -F0
     md = {"P": f0p, "a": radius, "mu": mu, "k": k_compliance}
@@ -111,7 +117,6 @@ def run(pb, bar) -> RunOutput:
     path = fr.path
     mu = float(fr.coefficient)
     kw = solve_kw(sc)
-    from .partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
 
     solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
                  "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE}
@@ -133,8 +138,9 @@ def run(pb, bar) -> RunOutput:
 
     rows = [row(res.start, 0, "start")]
     rows += [row(r, c, b) for r, c, b in zip(res.steps, res.path.cycle, res.path.branch)]
-    F = [r["tangential_force_x"] for r in rows]
-    D = [r["displacement_x"] for r in rows]
+    # the loop along the load direction (direction 90: the y components, not F_x = 0)
+    F = [_along(r, e)[0] for r in rows]
+    D = [_along(r, e)[1] for r in rows]
     C = [r["cycle"] for r in rows]
     run_level = {"friction_coefficient": mu, "control": path.control, "repulsive_force": f0p,
                  "adhesive_force": res.start.normal.adhesive_force,
@@ -150,13 +156,13 @@ def run(pb, bar) -> RunOutput:
     load_rows = [r for r in rows if r["branch"] in ("start", "loading")]
     onset = next((r for r in load_rows if r["stick_area"] == 0.0 and r["branch"] == "loading"), None)
     if onset is not None:
-        run_level["static_friction_force"] = onset["tangential_force_x"]
+        run_level["static_friction_force"] = _along(onset, e)[0]
         run_level["static_friction_ratio"] = onset["force_ratio"]
-        run_level["presliding_displacement"] = onset["displacement_x"] - rows[0]["displacement_x"]
+        run_level["presliding_displacement"] = _along(onset, e)[1] - _along(rows[0], e)[1]
     if res.offsets and np.any(res.offsets):
         run_level["counterface_offset_max"] = float(np.max(np.hypot(*np.array(res.offsets).T)))
     if path.control == "displacement":
-        gross = [abs(r["tangential_force_x"]) for r in rows if r.get("gross_slip")]
+        gross = [abs(_along(r, e)[0]) for r in rows if r.get("gross_slip")]
         run_level["sliding_force"] = float(np.mean(gross)) if gross else None
     # Change between the last two loops: max |dF_x| / (mu F0+) on displacement paths, max
     # |d delta_x| / (loop width in delta_x) on force paths (the prescribed quantity does not change).
@@ -164,15 +170,13 @@ def run(pb, bar) -> RunOutput:
     prev = [i for i, r in enumerate(rows) if r["cycle"] == path.cycles - 1 and r["cycle"] >= 1]
     if last and prev and len(last) == len(prev):
         if path.control == "displacement":
-            dF = max(abs(rows[i]["tangential_force_x"] - rows[j]["tangential_force_x"]) for i, j in zip(last, prev))
+            dF = max(abs(F[i] - F[j]) for i, j in zip(last, prev))
             run_level["loop_change"] = dF / (mu * f0p) if mu > 0 else None
         else:
-            dd = max(abs(rows[i]["displacement_x"] - rows[j]["displacement_x"]) for i, j in zip(last, prev))
-            width = max(r["displacement_x"] for r in (rows[i] for i in last)) - \
-                min(r["displacement_x"] for r in (rows[i] for i in last))
+            dd = max(abs(D[i] - D[j]) for i, j in zip(last, prev))
+            width = max(D[i] for i in last) - min(D[i] for i in last)
             run_level["loop_change"] = dd / width if width > 0 else None
     # Lateral stiffness (Paper F) on the last branch from -F* to +F*.
-    from ..analytic.mindlin import mindlin_compliance_k
 
     b1, b2 = pb.pair.body1, pb.pair.body2
     k_comp = mindlin_compliance_k(b1.E, b1.nu, b2.E, b2.nu)
@@ -184,7 +188,7 @@ def run(pb, bar) -> RunOutput:
     else:
         radius = math.sqrt(res.start.normal.contact_area_compressive / math.pi)
     try:
-        table, fit = _stiffness_table(rows, res, mu, f0p, radius, k_comp)
+        table, fit = _stiffness_table(rows, res, mu, f0p, radius, k_comp, e)
         run_level["lateral_stiffness"] = table
         run_level["lateral_stiffness_fit"] = fit
     except (InputError, RuntimeError, ValueError) as exc:

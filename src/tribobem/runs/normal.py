@@ -14,6 +14,8 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from .common import solve_kw, step_row
 from .kind import RunKind, RunOutput, fail, positive_normal_load
+from ..solvers.normal import solve_normal
+from ..solvers.paths import approach_curve, force_curve
 
 __all__ = ["run", "check", "KIND"]
 
@@ -23,8 +25,6 @@ def run(pb, bar) -> RunOutput:
 
     Returns its :class:`~tribobem.runs.kind.RunOutput`.
     """
-    from ..solvers.normal import solve_normal
-    from ..solvers.paths import approach_curve, force_curve
 
     sc, load = pb.scenario, pb.scenario.load
     kw = dict(solve_kw(sc), method=sc.solver.method)

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 
 from ..errors import InputError
 from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp

@@ -19,6 +19,9 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from .common import curve_from_rows, offset_progress, solve_kw
 from .kind import ALL, RunKind, RunOutput, fail, require_humidity
+from ..output.checks import cohesive_cells
+from ..solvers.paths import approach_curve, pull_off
+from .humid_pulloff import run as humid_run
 
 __all__ = ["run", "check", "KIND"]
 
@@ -31,10 +34,8 @@ def run(pb, bar) -> RunOutput:
 
     Returns its :class:`~tribobem.runs.kind.RunOutput`.
     """
-    from ..solvers.paths import approach_curve, pull_off
 
     if getattr(pb, "humidity", None) is not None:  # [humidity]: one pull-off per RH (runs.humid_pulloff)
-        from .humid_pulloff import run as humid_run
 
         return humid_run(pb, bar)
     sc, load = pb.scenario, pb.scenario.load
@@ -67,7 +68,6 @@ def run(pb, bar) -> RunOutput:
             if jj["kind"] == "jump-off" and (jj["index"], "jump-off") not in seen:
                 curve.jumps.append(jj)
         curve.jumps.sort(key=lambda j: j["index"])
-    from ..output.checks import cohesive_cells
 
     run = {"pull_off_force": po.force, "pull_off_approach": po.approach, "pull_off_control": load.control,
            "preload": po.preload, "preload_source": "load.preload" if load.preload is not None else ZERO_LOAD}

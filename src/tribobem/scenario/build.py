@@ -27,6 +27,14 @@ from ..errors import InputError, TopographyError
 from ..grid import Grid
 from ..materials import ContactPair, Material
 from .schema import BodySpec, Scenario
+from .. import geometry as geo
+from ..data import DATA_PREFIX, topography_path
+from ..elasticity.operators import make_operator
+from ..geometry import stats as geostats, read_topography, unit_to_metres, Topography
+from ..interactions import DugdaleAdhesion
+from ..interactions.isotherms import isotherm_from_spec
+from ..interactions.van_der_waals import DEFAULT_CUTOFF, HAMAKER_SI, HAMAKER_SIO2
+from ..interactions.water import Water
 
 __all__ = ["Problem", "HumiditySetup", "build_problem", "body_material", "resolve_path", "humidity_setup"]
 
@@ -188,9 +196,6 @@ def humidity_setup(sc: Scenario, shape1, shape2, rough1, rough2) -> HumiditySetu
         at RH = 1, or an isotherm that diverges at saturation: bulk water, outside the model),
         checked here before any solve.
     """
-    from ..interactions.isotherms import isotherm_from_spec
-    from ..interactions.van_der_waals import DEFAULT_CUTOFF, HAMAKER_SI, HAMAKER_SIO2
-    from ..interactions.water import Water
 
     hum = sc.humidity
     if hum is None:
@@ -238,7 +243,15 @@ def humidity_setup(sc: Scenario, shape1, shape2, rough1, rough2) -> HumiditySetu
 
 
 def resolve_path(path: str, base_dir: Path) -> Path:
-    """``path`` with ``~`` and environment variables expanded, relative to ``base_dir``."""
+    """``path`` with ``~`` and environment variables expanded, relative to ``base_dir``.
+
+    ``"data:NAME"`` names a measured topography of tribobem's data folder (the files shipped
+    with the package, or ``$TRIBOBEM_DATA_DIR`` when set): :func:`tribobem.data.topography_path`,
+    which raises :class:`InputError` when the file is not there.
+    """
+
+    if str(path).startswith(DATA_PREFIX):
+        return topography_path(str(path))
     p = Path(os.path.expandvars(os.path.expanduser(path)))
     return p if p.is_absolute() else (Path(base_dir) / p)
 
@@ -273,11 +286,14 @@ class _Loader:
         """The (detrended, cropped) Topography of a file/array roughness section."""
         if key in self.cache:
             return self.cache[key]
-        from ..geometry import read_topography, unit_to_metres
 
-        path = resolve_path(spec.path, self.base_dir)
+        try:
+            path = resolve_path(spec.path, self.base_dir)
+        except InputError as exc:  # a data: name that is not in the data folder
+            raise _rewrap(exc, key) from None
         if not path.exists():
-            raise FileNotFoundError(f"{key}.path: file {path} not found (paths are relative to the scenario file's folder)")
+            raise FileNotFoundError(f"{key}.path: file {path} not found (paths are relative to the scenario "
+                                    "file's folder; data:NAME names a file shipped with tribobem)")
         if spec.kind == "file":
             try:
                 topo = read_topography(path, channel=spec.channel, detrend=spec.detrend, fill=spec.fill,
@@ -318,7 +334,6 @@ class _Loader:
         return topo
 
     def array_topography(self, spec, key: str, grid_lengths):
-        from ..geometry import Topography
 
         heights, lx, ly, source = self.topography(spec, key)
         if lx is None:
@@ -357,7 +372,6 @@ def _grid(sc: Scenario, loader: _Loader) -> Grid:
 
 
 def _shape(spec, grid: Grid, key: str) -> np.ndarray:
-    from .. import geometry as geo
 
     try:
         if spec.kind == "flat":
@@ -379,7 +393,6 @@ def _shape(spec, grid: Grid, key: str) -> np.ndarray:
 
 
 def _roughness(spec, grid: Grid, key: str, loader: _Loader, info: dict, warns: list) -> np.ndarray:
-    from .. import geometry as geo
 
     try:
         if spec.kind == "none":
@@ -461,9 +474,6 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     ------
     InputError, TopographyError, MemoryBudgetError, FileNotFoundError
     """
-    from ..elasticity.operators import make_operator
-    from ..geometry import stats as geostats
-    from ..interactions import DugdaleAdhesion
 
     sc = scenario
     base = Path(base_dir) if base_dir is not None else Path.cwd()

@@ -24,6 +24,11 @@ from ..errors import ConvergenceWarning, InputError
 from ..runs import NotImplementedKindError, get_runner
 from .build import Problem, build_problem
 from .schema import Scenario, parse_scenario
+from ..output import write_outputs
+from ..output.atomic import staged, pause_hook
+from ..output.checks import result_warnings, compare_expected
+from ..output.fields import build_fields
+from ..output.summary import versions, write_summary
 
 __all__ = ["RunResult", "NotImplementedKindError", "load_scenario", "read_scenario_file", "run_scenario"]
 
@@ -201,7 +206,6 @@ class _PauseHook:
         self.bar(done, total)
         if self.first:
             self.first = False
-            from ..output.atomic import pause_hook
 
             pause_hook("solve")
 
@@ -261,7 +265,6 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         r["index"] = i
     converged = bool(rows) and all(bool(r.get("converged")) for r in rows)
     warns = list(pb.warnings) + list(out.warnings)
-    from ..output.checks import result_warnings
 
     # Numbers the grid cannot back (edge contact, unresolved cohesive zone, ...): on the states
     # the runner returned (before any fields selection).
@@ -278,7 +281,6 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     curve = out.curve
 
-    from ..output.summary import versions
 
     summary = {
         "kind": sc.kind,
@@ -294,7 +296,6 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         "created": _dt.datetime.now().isoformat(timespec="seconds"),
     }
     if sc.expected is not None:
-        from ..output.checks import compare_expected
 
         # The scenario's stated expectation beside the computed value (metadata: no effect on the run).
         summary["expected"] = compare_expected(summary, sc.expected.model_dump())
@@ -318,7 +319,6 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         tangential = [tangential[i] for i in sel] if tangential else []
     elif keep == "none":
         results, labels, indices, tangential, sel = [], [], [], [], []
-    from ..output.fields import build_fields
 
     attrs = {"title": sc.name or f"tribobem {sc.kind} run", "kind": sc.kind,
              "tribobem_version": summary["versions"]["tribobem"],
@@ -345,9 +345,6 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     files = {}
     out_path = None
     if outdir is not None:
-        from ..output import write_outputs
-        from ..output.atomic import staged
-        from ..output.summary import write_summary
 
         out_path = Path(outdir)
         t_out = time.perf_counter()

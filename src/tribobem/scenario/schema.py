@@ -28,6 +28,8 @@ from ..errors import InputError
 from ..runs import KINDS as RUN_KINDS
 from ..runs import RUNNERS
 from ..units import DIMENSIONS, UnitMismatch, convert
+from ..interactions.isotherms import isotherm_from_spec
+from ..units import registry
 
 __all__ = [
     "KINDS",
@@ -304,7 +306,9 @@ Detrend = Literal["none", "center", "height", "curvature"]
 class FileRoughness(Section):
     """A measured topography file (any format SurfaceTopography reads).
 
-    ``path`` is relative to the scenario file's folder.  The scan is detrended, optionally
+    ``path`` is relative to the scenario file's folder, or ``"data:NAME"`` for a measured file
+    shipped with tribobem (e.g. ``"data:example_ps.tiff"``; :func:`tribobem.data.topography_path`,
+    whose folder ``$TRIBOBEM_DATA_DIR`` replaces).  The scan is detrended, optionally
     cropped (``crop = {x0, y0, lx, ly}``), then resampled onto the solver grid, whose centre
     sits at ``offset`` (m) from the centre of the (cropped) scan.  ``rms`` rescales the heights;
     ``invert = true`` flips them (valleys become peaks).
@@ -418,7 +422,6 @@ class FilmSpec(Section):
 
     @model_validator(mode="after")
     def _isotherm(self):
-        from ..interactions.isotherms import isotherm_from_spec
 
         try:
             isotherm_from_spec(self.isotherm, "isotherm")
@@ -540,7 +543,6 @@ def Angle():
             try:
                 v = float(raw.strip())
             except ValueError:
-                from ..units import registry
 
                 try:
                     q = registry().Quantity(raw.strip())

@@ -25,13 +25,15 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from .common import _row
 from .tangential import _mindlin_k, cattaneo_problem
+from ..analytic import mindlin as md
+from ..runs.hysteresis import STIFFNESS_POINTS, lateral_stiffness_fit
+from ..solvers.hysteresis import hysteresis_loop, loop_energies
 
 __all__ = ["CASES", "mindlin_deresiewicz_delta"]
 
 
 def mindlin_deresiewicz_delta(Q, branch: str, Q_star: float, mu: float, P: float, a: float, k: float):
     """Mindlin-Deresiewicz tangential displacement (m) on a branch (SPEC 7, corrected Eq. 2.27c)."""
-    from ..analytic import mindlin as md
 
     if branch == "loading":
         return md.cattaneo_mindlin_displacement(Q, P=P, a=a, mu=mu, k=k)
@@ -41,8 +43,6 @@ def mindlin_deresiewicz_delta(Q, branch: str, Q_star: float, mu: float, P: float
 
 
 def _md_rows(quick: bool) -> list:
-    from ..runs.hysteresis import STIFFNESS_POINTS, lateral_stiffness_fit
-    from ..solvers.hysteresis import hysteresis_loop, loop_energies
 
     n, steps = (64, 24) if quick else (128, 48)
     P, mu, amp = 10.0, 0.3, 0.8
@@ -51,7 +51,6 @@ def _md_rows(quick: bool) -> list:
         warnings.simplefilter("ignore", ConvergenceWarning)
         run = hysteresis_loop(op, gap, normal_force=P, friction_coefficient=mu, amplitude=amp, cycles=1, steps=steps,
                               tangential_tol=1e-8)
-    from ..analytic import mindlin as md
 
     k = _mindlin_k(pair)
     Qs = run.peak_force  # = amp mu F0+ (F0+ = P without adhesion)

@@ -7,7 +7,7 @@ Cases
     Rigid ball R = 50 um on an elastic flat E = 70 GPa, nu = 0.3, F0 = 10 uN, mu = 0.2, Dugdale
     adhesion dgamma = 0, 50, 100 mJ/m^2 with z0 = 0.2 nm (not in Paper E; Paper D's value),
     domain +-2a (a the analytic contact radius), force-controlled cycles to F* = 0.999 x the
-    gross-slip onset of the first loading (:func:`tribobem.studies.paper_e.paper_e_loop`),
+    gross-slip onset of the first loading (:func:`tribobem.validation.paper_e_model.paper_e_loop`),
     1 + 2 cycles.  Quick: 48^2, 12 steps per cycle; full: 96^2, 16 steps per cycle.
 
     Per dgamma: the slip annulus at A (indicator 0 < stick ratio < 1), the re-stick at A'
@@ -53,9 +53,8 @@ def _indicator(case: str, quantity: str, ok: bool):
 
 
 def paper_e_rows(quick: bool) -> list:
-    from ..studies.paper_e import (
-        PAPER_E_SMOOTH_REPULSIVE_FORCE, WORKS, loop_metrics, md_state, paper_e_loop, start_state,
-    )
+    from .paper_e_model import WORKS, loop_metrics, md_state, paper_e_loop, start_state
+    from .references import PAPER_E_SMOOTH_REPULSIVE_FORCE
 
     n, steps = (48, 12) if quick else (96, 16)
     n_start, tol_md = (128, 0.15) if quick else (256, 0.08)

@@ -5,13 +5,14 @@ Cases (:data:`CASES`)
 ``bisinusoidal_resolution``
     The 625-case study (``docs/data/bisinusoidal_pulloff.csv``, the README's fit a = 11.16,
     b = 0.045) was computed on 256^2 cells per periodic cell with
-    :func:`tribobem.studies.bisinusoidal.pull_off_point` (40 unloading steps, 10 refinements,
+    :func:`tribobem.validation.bisinusoidal.pull_off_point` (40 unloading steps, 10 refinements,
     tolerance 1e-9).  Two things protect it:
 
     * **Reproduction.**  The 16 corners of Paper A Table 1 (dgamma 30 / 70 mJ/m^2, R_c 100 /
       500 um, E* 80 / 120 GPa, k 0.1 / 0.9; Maugis lambda 0.71-2.80) are solved again on 256^2
       and compared with their published values (:data:`PUBLISHED_CORNERS`, copied from the
-      table; a test checks the copy): every point within 5 %, their mean ratio within 1 %.
+      table into :mod:`tribobem.validation.references`; a test checks the copy): every point
+      within 5 %, their mean ratio within 1 %.
       The table was computed while the solver changed (restart rules, warm starts); the
       adhesive problem on the 256^2 lattice has several equilibria a few cells apart, so the
       present solver reproduces about a third of the points exactly and the others within a
@@ -43,32 +44,13 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from .common import ValidationRow, _row
+from .references import PUBLISHED_CORNERS  # the published table (re-exported)
 
 __all__ = ["CASES", "PUBLISHED_CORNERS", "RESOLUTION_CORNERS", "RESOLUTION_TOL", "bisinusoidal_resolution_rows"]
 
 #: The study's settings (examples/studies/bisinusoidal_pulloff.toml).
 STUDY = {"S": 5e-9, "z0": 0.3e-9, "n": 256, "n_steps": 40, "refine": 10, "tol": 1e-9}
 
-#: (dgamma J/m^2, R_c m, E* Pa, k, published pull-off force N) of the 16 corners of Paper A
-#: Table 1, copied from docs/data/bisinusoidal_pulloff.csv (tests check the copy).
-PUBLISHED_CORNERS = (
-    (0.03, 100e-6, 80e9, 0.1, -3.132743778e-05),    # lambda 0.93
-    (0.03, 100e-6, 80e9, 0.9, -3.276983963e-05),    # lambda 0.93
-    (0.03, 100e-6, 120e9, 0.1, -3.204227122e-05),   # lambda 0.71
-    (0.03, 100e-6, 120e9, 0.9, -3.323545748e-05),   # lambda 0.71
-    (0.03, 500e-6, 80e9, 0.1, -0.000149605888),     # lambda 1.59
-    (0.03, 500e-6, 80e9, 0.9, -0.0001650773894),    # lambda 1.59
-    (0.03, 500e-6, 120e9, 0.1, -0.0001525503859),   # lambda 1.21
-    (0.03, 500e-6, 120e9, 0.9, -0.0001604692463),   # lambda 1.21
-    (0.07, 100e-6, 80e9, 0.1, -6.986294744e-05),    # lambda 1.64
-    (0.07, 100e-6, 80e9, 0.9, -7.650247839e-05),    # lambda 1.64
-    (0.07, 100e-6, 120e9, 0.1, -7.097770163e-05),   # lambda 1.25
-    (0.07, 100e-6, 120e9, 0.9, -7.605048275e-05),   # lambda 1.25
-    (0.07, 500e-6, 80e9, 0.1, -0.0003301746814),    # lambda 2.80
-    (0.07, 500e-6, 80e9, 0.9, -0.0004059644193),    # lambda 2.80
-    (0.07, 500e-6, 120e9, 0.1, -0.0003413257071),   # lambda 2.14
-    (0.07, 500e-6, 120e9, 0.9, -0.0003976396305),   # lambda 2.14
-)
 #: Indices into :data:`PUBLISHED_CORNERS` of the resolution corners (lambda 0.71, k = 0.1 and
 #: lambda 2.80, k = 0.9).
 RESOLUTION_CORNERS = (2, 13)
@@ -80,7 +62,7 @@ REPRODUCTION_TOL = (0.05, 0.01)
 
 
 def _pull_off(dgamma: float, R_c: float, E_star: float, k: float, n: int) -> float:
-    from ..studies.bisinusoidal import pull_off_point
+    from .bisinusoidal import pull_off_point
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)

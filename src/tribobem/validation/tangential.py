@@ -45,6 +45,14 @@ from ..errors import ConvergenceWarning
 from ..grid import Grid
 from ..materials import ContactPair, Material
 from .common import _row
+from ..analytic import spence_stick_ratio
+from ..analytic.hertz import hertz
+from ..analytic.mindlin import mindlin_compliance_k, cattaneo_mindlin_displacement, cattaneo_stick_ratio, cattaneo_mindlin_traction, mindlin_initial_stiffness
+from ..elasticity.operators import make_operator, free_boundary_operator
+from ..solvers.coupling import solve_coupled
+from ..solvers.normal import solve_normal
+from ..solvers.slip_paths import normal_path
+from ..solvers.tangential import solve_tangential, tangential_operator
 
 __all__ = ["CASES", "cattaneo_problem"]
 
@@ -59,15 +67,12 @@ def _quiet(fn, *a, **kw):
 
 def _mindlin_k(pair: ContactPair) -> float:
     """k = sum (2 - nu_i) / G_i of the pair (rigid bodies contribute 0)."""
-    from ..analytic.mindlin import mindlin_compliance_k
 
     return mindlin_compliance_k(pair.body1.E, pair.body1.nu, pair.body2.E, pair.body2.nu)
 
 
 def cattaneo_problem(n: int, periodic: bool = False, radius: float = 10e-3, force: float = 10.0):
     """Grid, gap, operator and Hertz radius of the identical-steel sphere (free or periodic)."""
-    from ..analytic.hertz import hertz
-    from ..elasticity.operators import make_operator
 
     pair = ContactPair(STEEL, STEEL)
     a = float(hertz(force=force, radius=radius, E_star=pair.effective_modulus).contact_radius)
@@ -80,10 +85,7 @@ def cattaneo_problem(n: int, periodic: bool = False, radius: float = 10e-3, forc
 
 
 def _cattaneo_rows(quick: bool) -> list:
-    from ..solvers.normal import solve_normal
-    from ..solvers.tangential import solve_tangential
 
-    from ..analytic.mindlin import cattaneo_mindlin_displacement, cattaneo_stick_ratio
 
     n = 96 if quick else 192
     ratios = (0.2, 0.5, 0.9) if quick else (0.2, 0.3, 0.5, 0.7, 0.8, 0.9)
@@ -106,8 +108,6 @@ def _cattaneo_rows(quick: bool) -> list:
 
 
 def _cattaneo_periodic_rows(quick: bool) -> list:
-    from ..solvers.normal import solve_normal
-    from ..solvers.tangential import solve_tangential, tangential_operator
 
     n = 192 if quick else 384
     P, mu, r = 10.0, 0.3, 0.5
@@ -115,7 +115,6 @@ def _cattaneo_periodic_rows(quick: bool) -> list:
     nr = _quiet(solve_normal, op, gap, force=P, tol=1e-12)
     tr = _quiet(solve_tangential, op, nr.pressure, nr.contact, friction_coefficient=mu, force=(r * mu * P, 0.0), tol=1e-9)
     # Reference: the Cattaneo-Mindlin traction on the same periodic operator.
-    from ..analytic.mindlin import cattaneo_mindlin_traction, cattaneo_stick_ratio
 
     c = a * float(cattaneo_stick_ratio(r * mu * P, P=P, mu=mu))
     R2 = grid.radius() ** 2
@@ -132,15 +131,12 @@ def _cattaneo_periodic_rows(quick: bool) -> list:
 
 
 def _stiffness_rows(quick: bool) -> list:
-    from ..solvers.normal import solve_normal
-    from ..solvers.tangential import solve_tangential
 
     n = 96 if quick else 192
     P, mu, r = 10.0, 0.3, 0.02
     grid, gap, op, pair, a = cattaneo_problem(n)
     nr = _quiet(solve_normal, op, gap, force=P, tol=1e-12)
     tr = _quiet(solve_tangential, op, nr.pressure, nr.contact, friction_coefficient=mu, force=(r * mu * P, 0.0), tol=1e-10)
-    from ..analytic.mindlin import mindlin_initial_stiffness
 
     K_ref = mindlin_initial_stiffness(a, _mindlin_k(pair))
     return [_row(f"mindlin_stiffness {n}^2", "initial stiffness Q/delta (N/m) vs 8a/k", K_ref,
@@ -149,8 +145,6 @@ def _stiffness_rows(quick: bool) -> list:
 
 def paper_d_problem(n: int, swap: bool = False):
     """Rigid ball (R = 10 um) and elastic flat (130 GPa, 0.3), F0 = 10 uN, +-2a (Paper D 3.1)."""
-    from ..analytic.hertz import hertz
-    from ..elasticity.operators import free_boundary_operator
 
     elastic, rigid = Material(130e9, 0.3, "flat"), Material.rigid("ball")
     pair = ContactPair(rigid, elastic) if swap else ContactPair(elastic, rigid)
@@ -167,7 +161,6 @@ def _sign(v: float) -> float:
 
 
 def _coupling_sign_rows(quick: bool) -> list:
-    from ..solvers.coupling import solve_coupled
 
     rows = []
     mu = 0.2
@@ -202,8 +195,6 @@ def spence_problem(beta_over_mu: float, n: int):
     beta = beta_over_mu * mu
     # Rigid body 2 on elastic body 1: beta = (1 - 2 nu) / (2 (1 - nu)); solve for nu.
     nu = (1.0 - 2.0 * beta) / (2.0 - 2.0 * beta)
-    from ..analytic.hertz import hertz
-    from ..elasticity.operators import free_boundary_operator
 
     pair = ContactPair(Material(100e9, nu, "half-space"), Material.rigid("sphere"))
     R, P = 10e-6, 10e-6
@@ -219,7 +210,6 @@ def spence_stick_ratio_bem(beta_over_mu: float, n: int, steps: int = 24, goodman
     """(c/a from the BEM, the pair's beta/mu) at the end of an incremental normal-load path of
     ``steps`` geometric steps from ``start`` x P to P; ``goodman``: the shear does not act on the
     pressure (the assumption of the analytic solution)."""
-    from ..solvers.slip_paths import normal_path
 
     grid, gap, op, pair, a, P, mu = spence_problem(beta_over_mu, n)
     loads = list(np.geomspace(P * start, P, steps))
@@ -232,7 +222,6 @@ def spence_stick_ratio_bem(beta_over_mu: float, n: int, steps: int = 24, goodman
 
 
 def _spence_rows(quick: bool) -> list:
-    from ..analytic import spence_stick_ratio
 
     rows = []
     n, steps = (48, 96) if quick else (64, 192)

@@ -31,15 +31,15 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..analytic.adhesion import maugis_dugdale, maugis_dugdale_pull_off, maugis_parameter
-from ..elasticity.operators import free_boundary_operator
-from ..errors import ConvergenceWarning, InputError
-from ..geometry import gaussian_surface, rms_slope, scale_to_rms, sphere
-from ..grid import Grid
-from ..interactions.dugdale import DugdaleAdhesion
-from ..materials import ContactPair, Material
-from ..solvers.normal import solve_normal
-from ..solvers.paths import pull_off
+from tribobem.analytic.adhesion import maugis_dugdale, maugis_dugdale_pull_off, maugis_parameter
+from tribobem.elasticity.operators import free_boundary_operator
+from tribobem.errors import ConvergenceWarning, InputError
+from tribobem.geometry import gaussian_surface, rms_slope, scale_to_rms, sphere
+from tribobem.grid import Grid
+from tribobem.interactions.dugdale import DugdaleAdhesion
+from tribobem.materials import ContactPair, Material
+from tribobem.solvers.normal import solve_normal
+from tribobem.solvers.paths import pull_off
 
 __all__ = [
     "PAPER_D_RMS",

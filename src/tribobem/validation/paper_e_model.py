@@ -1,5 +1,12 @@
 """Paper E section 3.2: friction hysteresis loops of a smooth rigid ball on an elastic flat with
-Dugdale adhesion (thesis Paper E Figs. 6, 7, 9; SPEC 7).
+Dugdale adhesion (thesis Paper E Figs. 6, 7, 9; SPEC 7): the model problem, one loop and its
+measures.
+
+The ``paper_e`` validation case (:mod:`tribobem.validation.paper_e`) runs these loops, so they
+live in the package; the repository's study (``studies.paper_e``, driver
+``examples/studies/paper_e.py``) re-exports them and adds the study over every dgamma and its
+tables.  Paper E's published number (:data:`~tribobem.validation.references.PAPER_E_SMOOTH_REPULSIVE_FORCE`)
+is in :mod:`tribobem.validation.references`.
 
 A rigid ball (R = 50 um) is pressed with F0 = 10 uN on an elastic half-space (E = 70 GPa,
 nu = 0.3; Dundurs beta = 0.286, so the pressure alone slips an annulus at F_x = 0), mu = 0.2.
@@ -65,12 +72,12 @@ from ..solvers.coupling import solve_coupled
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
 from ..solvers.slip_paths import tangential_ramp
 from ..solvers.tangential import GrossSlipError
+from .references import PAPER_E_SMOOTH_REPULSIVE_FORCE
 
 __all__ = [
     "RADIUS", "E_FLAT", "NU_FLAT", "FORCE", "FRICTION", "Z0", "WORKS", "PAPER_E_SMOOTH_REPULSIVE_FORCE",
     "MIN_COHESIVE_CELLS", "DEFAULT_SOLVER", "RAMP_FRACTIONS",
-    "md_state", "paper_e_problem", "start_state", "PaperELoop", "paper_e_loop", "loop_metrics", "paper_e_study",
-    "summary_table", "loops_table",
+    "md_state", "paper_e_problem", "start_state", "PaperELoop", "paper_e_loop", "loop_metrics",
 ]
 
 #: Paper E section 3: rigid ball R = 50 um, elastic flat E = 70 GPa, nu = 0.3, F0 = 10 uN, mu = 0.2.
@@ -83,8 +90,6 @@ FRICTION = 0.2
 Z0 = 0.2e-9
 #: Paper E section 3.2: dgamma = 0, 50, 100 mJ/m^2 (J/m^2 here).
 WORKS = (0.0, 0.05, 0.1)
-#: Paper E section 3.3: the smooth interface at dgamma = 50 mJ/m^2 has F0+ = 29.165 uN.
-PAPER_E_SMOOTH_REPULSIVE_FORCE = 29.165e-6
 #: Fewer cells than this across the cohesive zone c - a: the adhesive force is under-resolved.
 MIN_COHESIVE_CELLS = 3.0
 #: F_x / (mu F0+ of A) of the first-loading ramp to the gross-slip onset (then bisected).
@@ -509,50 +514,3 @@ def loop_metrics(loop: PaperELoop) -> dict:
         "steps": len(F) - 1, "wall_time": loop.wall_time, "cpu_time": loop.cpu_time,
     })
     return out
-
-
-def paper_e_study(works: Sequence[float] = WORKS, n: int = 96, *, progress: Callable[[PaperELoop], None] | None = None,
-                  **loop_kw) -> list:
-    """:func:`paper_e_loop` for every work of adhesion (same grid size n, domain +-2a each)."""
-    if not len(works):
-        raise InputError("works", "give at least one work of adhesion")
-    out = []
-    for w in works:
-        lp = paper_e_loop(float(w), n, **loop_kw)
-        out.append(lp)
-        if progress:
-            progress(lp)
-    return out
-
-
-def summary_table(loops: Sequence[PaperELoop]):
-    """A pandas DataFrame, one row of :func:`loop_metrics` per loop, with Paper E's smooth F0+
-    (``paper_e_repulsive_force``, only at dgamma = 50 mJ/m^2)."""
-    import pandas as pd
-
-    rows = []
-    for lp in loops:
-        r = loop_metrics(lp)
-        r["paper_e_repulsive_force"] = (PAPER_E_SMOOTH_REPULSIVE_FORCE if math.isclose(lp.work_of_adhesion, 0.05)
-                                        else float("nan"))
-        rows.append(r)
-    return pd.DataFrame(rows)
-
-
-def loops_table(loops: Sequence[PaperELoop]):
-    """A pandas DataFrame with every step of every loop: dgamma, n, step, point label, cycle,
-    branch, F_x, F_x/(mu F0), F_x/(mu F0+), delta_x, stick ratio, F0+ of the step, converged."""
-    import pandas as pd
-
-    rows = []
-    for lp in loops:
-        label = {i: k for k, i in lp.points.items()}
-        for k in range(len(lp.forces)):
-            rows.append({"work_of_adhesion": lp.work_of_adhesion, "n": lp.n, "step": k, "point": label.get(k, ""),
-                         "cycle": int(lp.cycles[k]), "branch": lp.branches[k], "turning": bool(lp.turning[k]),
-                         "tangential_force_x": lp.forces[k],
-                         "force_over_mu_f0": lp.forces[k] / (lp.friction_coefficient * lp.normal_force),
-                         "force_over_mu_f0p": lp.forces[k] / (lp.friction_coefficient * lp.repulsive_force),
-                         "displacement_x": lp.displacements[k], "stick_ratio": lp.stick_ratios[k],
-                         "repulsive_force": lp.repulsive_forces[k], "converged": bool(lp.converged[k])})
-    return pd.DataFrame(rows)

@@ -10,7 +10,7 @@ used; K_L from the Paper F Eq. 3 fit of the last branch from -F* to +F* at F_x/(
 
 Each case is a ``hysteresis`` scenario (:func:`scenario`, run by
 :func:`tribobem.scenario.run_scenario` into its own result folder, which ``tribobem
-compare-loop`` accepts); K_L is taken with :mod:`tribobem.loops` (the same fit that
+compare-loop`` accepts); K_L is taken with :mod:`tribobem.analysis.loops` (the same fit that
 ``compare-loop`` applies to a measured loop).
 
 Choices (documented, see also ``examples/studies/paper_f.py``):
@@ -54,14 +54,14 @@ from __future__ import annotations
 import contextlib
 import json
 import math
-import os
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from tribobem.data import topography_path
+from tribobem.errors import InputError
 
 __all__ = [
     "RADIUS", "WAFER", "MATERIALS", "TABLE1", "LOADS", "DOMAIN", "DETREND", "TOPOGRAPHY",
@@ -92,7 +92,7 @@ LOADS = (25, 50, 75)
 DOMAIN = {"HDPE": 320e-6, "POM": 240e-6}
 #: The ball form is removed with the best quadratic (Paper F's "flattened" scans).
 DETREND = "curvature"
-#: The stand-in measured ball topography (in the shared data folder).
+#: The stand-in measured ball topography (shipped with tribobem: tribobem.data.topography_path).
 TOPOGRAPHY = "plu-1.plu"
 #: Defaults of the study.
 N_DEFAULT, STEPS_DEFAULT, CYCLES_DEFAULT = 96, 96, 4
@@ -137,24 +137,16 @@ def cases(materials=("HDPE", "POM"), loads=LOADS) -> list[Case]:
 
 # ----------------------------------------------------------------------------- topography
 def default_topography() -> Path:
-    """``plu-1.plu`` in ``$TRIBOBEM_DATA_DIR`` or ``../shared/data/topographies`` (of the
-    current folder or of the repository)."""
-    cands = []
-    if os.environ.get("TRIBOBEM_DATA_DIR"):
-        cands.append(Path(os.environ["TRIBOBEM_DATA_DIR"]))
-    repo = Path(__file__).resolve().parents[3]
-    cands += [Path.cwd() / ".." / "shared" / "data" / "topographies", repo.parent / "shared" / "data" / "topographies"]
-    for c in cands:
-        if (c / TOPOGRAPHY).is_file():
-            return (c / TOPOGRAPHY).resolve()
-    raise FileNotFoundError(f"{TOPOGRAPHY} not found in {', '.join(str(c) for c in cands)}; set TRIBOBEM_DATA_DIR")
+    """``plu-1.plu``, the measured file shipped with tribobem (:func:`tribobem.data.topography_path`:
+    the package's data folder, or ``$TRIBOBEM_DATA_DIR`` when set); InputError if it is not there."""
+    return topography_path(TOPOGRAPHY)
 
 
 _RMS_CACHE: dict = {}
 
 
 def _flattened(path):
-    from ..geometry import read_topography
+    from tribobem.geometry import read_topography
 
     key = str(Path(path).resolve())
     if key not in _RMS_CACHE:
@@ -174,7 +166,7 @@ def full_scan_rms(path) -> float:
 def window_rms(path, n: int, size: float, target: float) -> float:
     """The ``roughness.rms`` that makes the resampled central ``size`` x ``size`` window on
     ``n x n`` cells equal to the whole flattened scan scaled to rms ``target``."""
-    from ..grid import Grid
+    from tribobem.grid import Grid
 
     topo = _flattened(path)
     w = topo.resample(Grid(int(n), int(n), float(size), float(size), False)).heights
@@ -250,7 +242,7 @@ def mindlin_loop_energy(case: Case) -> float:
 def _keep_states():
     """Keep the HysteresisRun that the hysteresis runner computes (every step's state), for the
     stick/slip maps at A, B, C: fields.nc holds only the start and the turning points."""
-    from ..runs import hysteresis as runner
+    from tribobem.runs import hysteresis as runner
 
     kept = {}
     original = runner.hysteresis_loop
@@ -308,9 +300,9 @@ def run_case(case: Case, outdir, n: int = N_DEFAULT, size: float | None = None, 
     ``paper_f_case.json``, with the maps in ``maps.npz``).  A finished case with the same
     parameters is read back instead of recomputed unless ``force``.  ``figures = False`` writes
     summary.json only (no fields.nc, figures or report: tests)."""
-    from ..loops import fit_branch, loop_from_summary, stiffness_points
-    from ..runs.hysteresis import STIFFNESS_POINTS
-    from ..scenario import run_scenario
+    from tribobem.analysis.loops import fit_branch, loop_from_summary, stiffness_points
+    from tribobem.analysis.loops import STIFFNESS_POINTS
+    from tribobem.scenario import run_scenario
 
     size = DOMAIN[case.material] if size is None else float(size)
     sc = scenario(case, n=n, size=size, steps=steps, cycles=cycles, topography=topography)
@@ -327,7 +319,7 @@ def run_case(case: Case, outdir, n: int = N_DEFAULT, size: float | None = None, 
             pass
     import warnings
 
-    from ..errors import ConvergenceWarning
+    from tribobem.errors import ConvergenceWarning
 
     t0 = time.perf_counter()
     with _keep_states() as kept, warnings.catch_warnings():
@@ -336,7 +328,7 @@ def run_case(case: Case, outdir, n: int = N_DEFAULT, size: float | None = None, 
                               progress=progress if progress is not None else False, quiet=True)
     wall = time.perf_counter() - t0
     if not figures:
-        from ..output.summary import write_summary
+        from tribobem.output.summary import write_summary
 
         folder.mkdir(parents=True, exist_ok=True)
         write_summary(folder / "summary.json", result.summary)
@@ -400,7 +392,7 @@ def run_case(case: Case, outdir, n: int = N_DEFAULT, size: float | None = None, 
         "wall_time": wall, "solve_time": summary.get("timings", {}).get("solve"),
         "result_folder": str(folder),
     }
-    from ..output.summary import atomic_write_bytes, jsonable
+    from tribobem.output.summary import atomic_write_bytes, jsonable
 
     if maps:
         import io
@@ -465,7 +457,7 @@ def write_csv(rows, path) -> Path:
     import csv
     import io
 
-    from ..output.summary import atomic_write_bytes
+    from tribobem.output.summary import atomic_write_bytes
 
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=list(rows[0].keys()), lineterminator="\n")
@@ -511,7 +503,7 @@ def plot_loops(records, path) -> Path:
 
     from matplotlib.figure import Figure
 
-    from ..output.summary import atomic_write_bytes
+    from tribobem.output.summary import atomic_write_bytes
 
     fig = Figure(figsize=(15, 8.6), layout="constrained")
     axs = fig.subplots(2, 3)
@@ -611,7 +603,7 @@ def plot_maps(records, path) -> Path | None:
     from matplotlib.colors import LogNorm
     from matplotlib.figure import Figure
 
-    from ..output.summary import atomic_write_bytes
+    from tribobem.output.summary import atomic_write_bytes
 
     rows = []
     for r in records:

@@ -1,5 +1,13 @@
 """Parameter studies that reproduce the thesis' numerical results (built on the public API).
 
+This package sits at the top of the repository, outside the installed ``tribobem`` package:
+import it from the repository root (``python -c "import studies"``; the drivers in
+``examples/studies/`` and the tests put the root on ``sys.path``).  ``tribobem validate`` never
+imports it: the published numbers it needs are in :mod:`tribobem.validation.references`, the
+computations in :mod:`tribobem.validation.bisinusoidal` and
+:mod:`tribobem.validation.paper_e_model` (re-exported by :mod:`.bisinusoidal` and
+:mod:`.paper_e`).  Measured topographies come from :func:`tribobem.data.topography_path`.
+
 - :mod:`.bisinusoidal`: pull-off force of a bisinusoidal interface with Dugdale adhesion
   (Paper A section 6, Tables 1-2), and the fit ``F = a E*^beta R_c^(1+beta) dgamma^(1-beta) k^b``.
 - :mod:`.rough_ball`: a smooth ball on a Gaussian rough flat scaled to several rms (Paper A

@@ -7,7 +7,7 @@ base scenario ``examples/studies/rough_ball_slip_base.toml``, kind ``partial_sli
 module holds what the sweep cannot do by itself:
 
 * :func:`flat_surface` / :func:`write_flat`: the 10 x 10 um Hu-Tonder flat of Papers A and D,
-  generated as in :mod:`tribobem.studies.rough_ball` (seed, exponential ACF whose correlation
+  generated as in :mod:`studies.rough_ball` (seed, exponential ACF whose correlation
   length gives rms 5 nm an rms slope of 0.113 on the generation grid), written as a ``.npy``
   height map that the base scenario reads as ``roughness = { kind = "array", crop = ... }``;
 * :func:`gather`: one table row per sweep point (rms, mu_T, F0+, F0-, onset ratio, pre-sliding
@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from tribobem.errors import InputError
 
 __all__ = [
     "RADIUS", "E_FLAT", "NU_FLAT", "FORCE", "FRICTION", "Z0", "FLAT_SIZE", "FLAT_N", "SEED",
@@ -76,7 +76,7 @@ def effective_modulus(E: float = E_FLAT, nu: float = NU_FLAT) -> float:
 def work_of_adhesion(tabor: float, radius: float = RADIUS, z0: float = Z0, E_star: float | None = None) -> float:
     """Work of adhesion (J/m^2) that gives the smooth ball Tabor parameter ``tabor``
     (:meth:`~tribobem.interactions.dugdale.DugdaleAdhesion.from_tabor`)."""
-    from ..interactions.dugdale import DugdaleAdhesion
+    from tribobem.interactions.dugdale import DugdaleAdhesion
 
     E_star = effective_modulus() if E_star is None else E_star
     return DugdaleAdhesion.from_tabor(float(tabor), radius, E_star, z0).work_of_adhesion
@@ -92,9 +92,9 @@ def flat_surface(n: int = FLAT_N, size: float = FLAT_SIZE, seed: int = SEED, rms
                  slope: float = FLAT_SLOPE, correlation_length: float | None = None):
     """The Hu-Tonder Gaussian flat of Papers A and D.
 
-    As :func:`~tribobem.studies.rough_ball.rough_ball_study` generates it: an exponential-ACF
+    As :func:`~studies.rough_ball.rough_ball_study` generates it: an exponential-ACF
     Gaussian surface of ``seed`` on ``n x n`` cells over ``size``, whose correlation length is
-    calibrated (:func:`~tribobem.studies.rough_ball.calibrate_correlation_length`) so that the
+    calibrated (:func:`~studies.rough_ball.calibrate_correlation_length`) so that the
     surface at rms ``rms`` has rms slope ``slope`` on this grid, scaled to rms ``rms`` (mean 0).
 
     Returns
@@ -104,8 +104,8 @@ def flat_surface(n: int = FLAT_N, size: float = FLAT_SIZE, seed: int = SEED, rms
     info : dict
         ``correlation_length``, ``rms``, ``rms_slope``, ``dx``, ``size``, ``n``, ``seed``.
     """
-    from ..geometry import gaussian_surface, rms_slope, scale_to_rms
-    from ..grid import Grid
+    from tribobem.geometry import gaussian_surface, rms_slope, scale_to_rms
+    from tribobem.grid import Grid
     from .rough_ball import calibrate_correlation_length
 
     grid = Grid.square(int(n), float(size), periodic=False)
@@ -152,7 +152,7 @@ def window_ratio(heights: np.ndarray, size, crop) -> float:
 
 def _roughness_source(base_scn, base_dir: Path):
     """(heights, (lx, ly), crop dict in m, grid info) of the base scenario's array roughness."""
-    from ..scenario.schema import parse_scenario
+    from tribobem.scenario.schema import parse_scenario
 
     sc = parse_scenario(base_scn)
     r = sc.body1.roughness
@@ -164,7 +164,7 @@ def _roughness_source(base_scn, base_dir: Path):
         path = (base_dir / path).resolve()
     if not path.is_file():
         raise FileNotFoundError(f"the flat {path} is missing: write it with "
-                                "tribobem.studies.rough_slip.write_flat() (the study script does)")
+                                "studies.rough_slip.write_flat() (the study script does)")
     heights = np.load(path)
     if r.size is not None:
         size = (r.size, r.size)
@@ -236,7 +236,7 @@ def gather(sweep, outdir):
     """
     import pandas as pd
 
-    from ..sweep import load_sweep, read_points
+    from tribobem.sweep import load_sweep, read_points
 
     spec = load_sweep(sweep)
     outdir = Path(outdir)
@@ -251,7 +251,7 @@ def gather(sweep, outdir):
         if any(k.startswith("body1.roughness.") and k != "body1.roughness.rms" for k in o):
             heights, size, crop, sc, _ = _roughness_source(scn, base_dir)
         else:
-            from ..scenario.schema import parse_scenario
+            from tribobem.scenario.schema import parse_scenario
 
             heights, size, crop, sc = heights0, size0, crop0, parse_scenario(scn)
         ratio = window_ratio(heights, size, crop)
@@ -274,7 +274,7 @@ def gather(sweep, outdir):
                "z0": z0, "radius": R, "n": nx, "window": lx, "dx": dx,
                "elapsed": float(rec["elapsed"]) if rec and rec.get("elapsed") is not None else math.nan}
         if dgamma > 0:
-            from ..interactions.dugdale import DugdaleAdhesion
+            from tribobem.interactions.dugdale import DugdaleAdhesion
 
             ad = DugdaleAdhesion(dgamma, z0)
             row.update(sigma0=ad.sigma0, h0=ad.h0)
@@ -522,7 +522,7 @@ def stick_zone_track(scenario, base_dir=None):
 
     import pandas as pd
 
-    from ..scenario import run_scenario
+    from tribobem.scenario import run_scenario
 
     scn = copy.deepcopy(dict(scenario))
     scn["output"] = {"fields": "all", "figures": False, "report": False}
@@ -575,7 +575,7 @@ def repulsive_force_scan(base_scenario, rms_values, works_of_adhesion, base_dir=
 
     import pandas as pd
 
-    from ..scenario import run_scenario
+    from tribobem.scenario import run_scenario
 
     base_dir = Path(base_dir) if base_dir is not None else Path.cwd()
     heights, size, crop, sc0, _ = _roughness_source(base_scenario, base_dir)

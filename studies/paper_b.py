@@ -159,8 +159,8 @@ def gather(spec, outdir):
     """
     import pandas as pd
 
-    from ..scenario.schema import parse_scenario
-    from ..sweep import load_sweep, read_points
+    from tribobem.scenario.schema import parse_scenario
+    from tribobem.sweep import load_sweep, read_points
 
     spec = load_sweep(spec)
     outdir = Path(outdir)
@@ -380,7 +380,7 @@ def plot_study(curves, path, title: str | None = None) -> Path:
     levelled films (Fig. 18)."""
     from matplotlib.figure import Figure
 
-    from ..output.summary import atomic_write_bytes
+    from tribobem.output.summary import atomic_write_bytes
 
     fig = Figure(figsize=(14, 8.4), layout="constrained")
     axes = fig.subplots(2, 3)

@@ -15,7 +15,7 @@ Set-up (Paper C sections 3-4, SPEC 6) and what stands in for what we do not have
   (SiO2).  The same scan scaled twice: the two flats differ by their rms (and E), not by their
   texture;
 * spots: five non-overlapping 1/3 um windows of the scan (the corners and the centre, as
-  :func:`tribobem.studies.afm_pulloff.spot_origins` places them), each on the scan's own
+  :func:`studies.afm_pulloff.spot_origins` places them), each on the scan's own
   170^2 pixels (1.95 nm), free boundary, under the probe's apex.  Each keeps its own rms (the
   scan's scale factor times its own rms);
 * humid state: 35 % RH at 295 K, water films from the shipped isotherms (SPEC 6: 0.90 nm on
@@ -35,10 +35,13 @@ from pathlib import Path
 
 import numpy as np
 
+from tribobem.data import topography_path
+
 __all__ = ["PARK_SCAN", "SUBSTRATES", "sweep_spec", "gather", "summary_table", "plot_study", "spot_windows"]
 
-#: The stand-in topography (see the module docstring); resolved against the repository root.
-PARK_SCAN = Path(__file__).resolve().parents[3].parent / "shared" / "data" / "topographies" / "example_ps.tiff"
+#: The stand-in topography (see the module docstring): the measured scan shipped with tribobem
+#: (:func:`tribobem.data.topography_path`; ``$TRIBOBEM_DATA_DIR`` replaces its folder).
+PARK_SCAN = topography_path("example_ps.tiff", must_exist=False)
 #: substrate -> (E, nu, rms of Paper C, isotherm, Hamaker constant)
 SUBSTRATES = {
     "Si": ("130 GPa", 0.28, 0.46e-9, "Si", "19e-20 J"),
@@ -63,7 +66,7 @@ def spot_windows(path=PARK_SCAN, n_spots: int = N_SPOTS, window_cells: int | Non
         ``spots`` (list of ``{"x0", "y0", "lx", "ly", "rms"}``, m), ``scan_rms`` (m), ``dx`` (m),
         ``cells`` (window side in cells), ``path``.
     """
-    from ..geometry import read_topography
+    from tribobem.geometry import read_topography
     from .afm_pulloff import spot_origins
 
     topo = read_topography(path, detrend="height")
@@ -111,7 +114,10 @@ def sweep_spec(path=PARK_SCAN, quick: bool = False) -> dict:
     The spot's ``crop`` and ``rms`` (the scan's scale factor to Paper C's rms times the window's
     own rms) are point overrides; the point's ``name`` says substrate, state and spot.
     """
-    from ..sweep import _flatten
+    try:  # the sweep package exports it as flatten (formerly _flatten)
+        from tribobem.sweep import flatten as _flatten
+    except ImportError:
+        from tribobem.sweep import _flatten
 
     sw = spot_windows(path, 2 if quick else N_SPOTS)
     base = _scenario("Si", path, False, quick)
@@ -144,8 +150,8 @@ def gather(spec, outdir):
 
     import pandas as pd
 
-    from ..scenario.schema import parse_scenario
-    from ..sweep import load_sweep, read_points
+    from tribobem.scenario.schema import parse_scenario
+    from tribobem.sweep import load_sweep, read_points
 
     spec = load_sweep(spec)
     outdir = Path(outdir)
@@ -202,7 +208,7 @@ def plot_study(table, path) -> Path:
 
     from matplotlib.figure import Figure
 
-    from ..output.summary import atomic_write_bytes
+    from tribobem.output.summary import atomic_write_bytes
 
     summ = summary_table(table)
     fig = Figure(figsize=(7.5, 4.4), layout="constrained")

@@ -32,16 +32,16 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..analytic.adhesion import maugis_dugdale, maugis_dugdale_pressure, maugis_parameter
-from ..elasticity.operators import free_boundary_operator
-from ..errors import ConvergenceWarning, InputError
-from ..geometry import sphere
-from ..grid import Grid
-from ..interactions.dugdale import DugdaleAdhesion
-from ..materials import ContactPair, Material
-from ..solvers.coupling import solve_coupled
-from ..solvers.normal import solve_normal
-from ..solvers.slip_paths import tangential_ramp
+from tribobem.analytic.adhesion import maugis_dugdale, maugis_dugdale_pressure, maugis_parameter
+from tribobem.elasticity.operators import free_boundary_operator
+from tribobem.errors import ConvergenceWarning, InputError
+from tribobem.geometry import sphere
+from tribobem.grid import Grid
+from tribobem.interactions.dugdale import DugdaleAdhesion
+from tribobem.materials import ContactPair, Material
+from tribobem.solvers.coupling import solve_coupled
+from tribobem.solvers.normal import solve_normal
+from tribobem.solvers.slip_paths import tangential_ramp
 
 __all__ = [
     "PAPER_D_TABLE1",
