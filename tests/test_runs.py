@@ -131,3 +131,41 @@ def test_run_output_checks_alignment():
         RunOutput(rows=[], results=[1, 2], labels=["a"], indices=[0, 1], run={})
     with pytest.raises(ValueError, match="tangential"):
         RunOutput(rows=[], results=[1, 2], labels=["a", "b"], indices=[0, 1], run={}, tangential=["t"])
+
+
+def test_each_kind_declares_known_figure_sets_and_report_sections():
+    """A kind is a plug-in: its figure sets and report sections are names the output package
+    knows (an unknown name is an error, not silently nothing)."""
+    from tribobem.output.figures import FIGURE_SETS, make_figures
+    from tribobem.output.report import REPORT_SECTIONS, render_report
+    from tribobem.runs import KINDS as REGISTRY
+
+    for name, kind in REGISTRY.items():
+        assert kind.figures and set(kind.figures) <= set(FIGURE_SETS), name
+        assert set(kind.report_sections) <= set(REPORT_SECTIONS), name
+        assert kind.summary, name
+    with pytest.raises(ValueError, match="unknown figure set"):
+        make_figures(None, {"kind": "normal", "steps": []}, "/nonexistent-not-created", sets=("plots",))
+    with pytest.raises(ValueError, match="unknown report section"):
+        render_report({"kind": "normal", "steps": []}, {}, sections=("extras",))
+
+
+def test_a_kind_draws_its_own_figure_sets(tmp_path):
+    """A partial-slip ramp draws the friction set and no force curve (constant normal force);
+    the same summary with only the kind's sets gives the same figures as all sets."""
+    from tribobem.output import replot
+    from tribobem.runs import KINDS as REGISTRY
+    from tribobem.scenario import run_scenario
+
+    sc = {"kind": "partial_slip", "grid": {"n": 32, "size": "0.32 um"},
+          "body1": {"E": "130 GPa", "nu": 0.3}, "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "10 um"}},
+          "load": {"force": "10 uN"}, "friction": {"coefficient": 0.2, "tangential_forces": ["0 uN", "1 uN"]}}
+    r = run_scenario(sc, outdir=tmp_path / "a", progress=False)
+    figs = {k for k in r.files if k not in ("fields", "report", "summary")}
+    assert "stick_ratio" in figs and any(k.startswith("stickslip_step") for k in figs)
+    assert "force_curve" not in figs and "hysteresis_loop" not in figs
+    kind = REGISTRY["partial_slip"]
+    again = replot(tmp_path / "a", figure_sets=kind.figures, report_sections=kind.report_sections)
+    every = replot(tmp_path / "a")
+    assert set(again) == set(every) == figs | {"report"}
+    assert "<h2>Friction</h2>" in (tmp_path / "a" / "report.html").read_text()

@@ -574,14 +574,18 @@ def plot(
 ):
     """Re-make the figures and report.html of a result folder from its files."""
     with _user_errors():
-        from .output import replot
+        from .output import read_summary, replot
+        from .runs import KINDS
 
         if not result.exists():
             raise FileNotFoundError(f"result folder {result} not found")
         if result.is_file():
             result = result.parent
+        # the run kind's figure sets and report sections (an unknown kind: every set that applies)
+        kind = KINDS.get(read_summary(result / "summary.json").get("kind")) if (result / "summary.json").is_file() else None
         with _interrupts(result, "tribobem plot"):
-            files = replot(result)
+            files = replot(result, figure_sets=kind.figures if kind else None,
+                           report_sections=kind.report_sections if kind else None)
         if not quiet:
             for name, path in files.items():
                 _stdout().print(f"{name}: {escape(str(path))}")

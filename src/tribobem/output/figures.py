@@ -26,7 +26,8 @@ __all__ = ["FIGURE_NAMES", "make_figures", "topography_figure", "pressure_figure
            "profile_figure", "force_curve_figure", "stickslip_figure", "stickslip_steps", "stick_ratio_figure",
            "stick_normal_figure", "is_hysteresis", "turning_point_letters", "mindlin_reference",
            "hysteresis_loop_figure", "lateral_stiffness_figure", "dissipation_figure", "loop_map_steps",
-           "loop_stickslip_figure", "hysteresis_figures"]
+           "loop_stickslip_figure", "hysteresis_figures", "FIGURE_SETS", "load_curve_figures", "friction_figures",
+           "hysteresis_run_figures", "capillary_run_figures", "map_figures"]
 
 #: File stems of the figures, in report order.  ``stickslip`` stands for the stick/slip maps,
 #: one per shown step, named ``stickslip_step<k>`` (k: the step's index in summary.json), or,
@@ -1166,24 +1167,21 @@ def _constant_normal_force(summary: dict) -> bool:
     return bool(np.ptp(fn) <= 1e-6 * max(np.max(np.abs(fn)), 1e-300))
 
 
-def make_figures(ds, summary: dict, outdir) -> dict:
-    """Draw every figure that applies into ``outdir``.
+def load_curve_figures(ds, summary: dict, outdir) -> dict:
+    """Figure set ``load_curve``: the force-approach curve (not for a tangential run at a fixed
+    normal force, nor for RH steps: there the curve says nothing)."""
+    if _constant_normal_force(summary) or is_capillary(summary):
+        return {}
+    fc = force_curve_figure(summary, Path(outdir) / "force_curve.png")
+    return {"force_curve": fc} if fc is not None else {}
 
-    Returns
-    -------
-    dict
-        Figure name -> Path, in :data:`FIGURE_NAMES` order.
-    """
+
+def friction_figures(ds, summary: dict, outdir) -> dict:
+    """Figure set ``friction``: stick ratio against F_x/(mu F0+) (or against the normal force
+    of a normal-load path) and the stick/slip maps of the shown steps (a hysteresis run shows
+    its maps at Paper E's points instead: set ``hysteresis``)."""
     outdir = Path(outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
     out = {}
-
-    capillary = is_capillary(summary)  # RH steps: their own figures (output.capillary), no force curve
-    if capillary:
-        out.update(capillary_figures(ds, summary, outdir))
-    fc = None if _constant_normal_force(summary) or capillary else force_curve_figure(summary, outdir / "force_curve.png")
-    if fc is not None:
-        out["force_curve"] = fc
     for name, func in (("stick_normal", stick_normal_figure), ("stick_ratio", stick_ratio_figure)):
         try:
             fig = func(summary, outdir / f"{name}.png")
@@ -1192,14 +1190,9 @@ def make_figures(ds, summary: dict, outdir) -> dict:
         if fig is not None:
             out[name] = fig
             break  # a normal-load path has no F_x axis: one or the other
-    hyst = is_hysteresis(summary)
-    if hyst:
-        out.update(hysteresis_figures(ds, summary, outdir))
-    picks = loop_map_steps(ds, summary) if hyst and ds is not None else []
-    maps = [] if picks else stickslip_steps(ds) if ds is not None else []
-    if picks:
-        out["stickslip_loop"] = loop_stickslip_figure(ds, picks, outdir / "stickslip_loop.png",
-                                                      mu=_friction_coefficient(summary, ds))
+    if ds is None or (is_hysteresis(summary) and loop_map_steps(ds, summary)):
+        return out
+    maps = stickslip_steps(ds)
     if maps:
         mu = _friction_coefficient(summary, ds)
         qmax = max(float(np.nanmax(np.hypot(np.nan_to_num(ds["shear_x"].values[i]),
@@ -1210,7 +1203,38 @@ def make_figures(ds, summary: dict, outdir) -> dict:
             name = f"stickslip_step{k}" if f"stickslip_step{k}" not in names else f"stickslip_field{i}"
             names.add(name)
             out[name] = stickslip_figure(ds, i, outdir / f"{name}.png", mu=mu, qmax=qmax or None)
-    step = representative_step(ds) if ds is not None else None
+    return out
+
+
+def hysteresis_run_figures(ds, summary: dict, outdir) -> dict:
+    """Figure set ``hysteresis``: the loop, the lateral stiffness, the last cycle's dissipation
+    and the stick/slip maps at Paper E's points (:func:`hysteresis_figures`)."""
+    if not is_hysteresis(summary):
+        return {}
+    out = hysteresis_figures(ds, summary, outdir)
+    picks = loop_map_steps(ds, summary) if ds is not None else []
+    if picks:
+        out["stickslip_loop"] = loop_stickslip_figure(ds, picks, Path(outdir) / "stickslip_loop.png",
+                                                      mu=_friction_coefficient(summary, ds))
+    return out
+
+
+def capillary_run_figures(ds, summary: dict, outdir) -> dict:
+    """Figure set ``capillary``: the force components against RH, the humid pull-off, the
+    meniscus and film maps (:func:`tribobem.output.capillary.capillary_figures`), for RH steps."""
+    return capillary_figures(ds, summary, outdir) if is_capillary(summary) else {}
+
+
+def map_figures(ds, summary: dict, outdir) -> dict:
+    """Figure set ``maps``: pressure, contact and profile of the representative state (a pull-off
+    run: the most loaded state and the state at pull-off; RH steps: the peak capillary force),
+    and the topography."""
+    if ds is None:
+        return {}
+    outdir = Path(outdir)
+    out = {}
+    capillary = is_capillary(summary)
+    step = representative_step(ds)
     if capillary and step is not None and capillary_step(ds, summary) is not None:
         step = capillary_step(ds, summary)  # the maps at the peak capillary force
     if step is not None:
@@ -1230,8 +1254,50 @@ def make_figures(ds, summary: dict, outdir) -> dict:
             if not capillary:  # the meniscus maps show contact, Dugdale zone and menisci instead
                 out["contact"] = contact_figure(ds, step, outdir / "contact.png")
             out["profile"] = profile_figure(ds, step, outdir / "profile.png")
-    if ds is not None:
-        out["topography"] = topography_figure(ds, outdir / "topography.png")
+    out["topography"] = topography_figure(ds, outdir / "topography.png")
+    return out
+
+
+#: The figure sets a run kind names (:attr:`tribobem.runs.kind.RunKind.figures`): name -> a
+#: function ``(ds, summary, outdir) -> {figure name: Path}`` that draws what applies.
+FIGURE_SETS = {
+    "load_curve": load_curve_figures,
+    "friction": friction_figures,
+    "hysteresis": hysteresis_run_figures,
+    "capillary": capillary_run_figures,
+    "maps": map_figures,
+}
+
+
+def make_figures(ds, summary: dict, outdir, sets=None) -> dict:
+    """Draw the figures of a run into ``outdir``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The fields (fields.nc); None: only the figures drawn from the summary.
+    summary : dict
+        The run summary (summary.json).
+    outdir : path-like
+        Folder for the PNG files (created).
+    sets : sequence of str, optional
+        The figure sets to draw (keys of :data:`FIGURE_SETS`), as the run kind declares them;
+        default: every set (each draws only what the summary and fields hold).
+
+    Returns
+    -------
+    dict
+        Figure name -> Path, in :data:`FIGURE_NAMES` order.
+    """
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    names = tuple(FIGURE_SETS) if sets is None else tuple(sets)
+    unknown = [n for n in names if n not in FIGURE_SETS]
+    if unknown:
+        raise ValueError(f"unknown figure set(s) {unknown}; known: {', '.join(FIGURE_SETS)}")
+    out = {}
+    for name in names:
+        out.update(FIGURE_SETS[name](ds, summary, outdir))
     ordered = {}
     for k in FIGURE_NAMES:
         if k in ("stickslip", "dissipation"):

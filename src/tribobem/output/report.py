@@ -336,7 +336,46 @@ def _capillary_section(s: dict, hum: dict, figures: dict) -> list:
     return parts
 
 
-def render_report(summary: dict, figures: dict | None = None) -> str:
+def friction_section(s: dict, figures: dict) -> tuple[list, dict]:
+    """Report section ``friction``: the run-level friction values of a partial-slip run (a
+    hysteresis run has its own section).  Returns (HTML parts, the figures left to place)."""
+    fric = [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS if s.get(key) is not None]
+    if not fric or is_hysteresis(s):
+        return [], figures
+    e = html.escape
+    parts = ["<h2>Friction</h2><table>"]
+    parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in fric]
+    parts.append("</table>")
+    return parts, figures
+
+
+def hysteresis_section(s: dict, figures: dict) -> tuple[list, dict]:
+    """Report section ``hysteresis``: loop energies, static friction, lateral stiffness at A, B,
+    C against Mindlin-Deresiewicz, with the loop figures.  Returns (HTML parts, the figures left)."""
+    if not is_hysteresis(s):
+        return [], figures
+    fric = [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS if s.get(key) is not None]
+    parts = _hysteresis_section(s, fric, figures)
+    return parts, {k: v for k, v in figures.items() if not _is_hysteresis_figure(k)}
+
+
+def capillary_section(s: dict, figures: dict) -> tuple[list, dict]:
+    """Report section ``capillary``: the humidity inputs and the forces against RH, with the
+    capillary figures (runs with ``[humidity]``).  Returns (HTML parts, the figures left)."""
+    hum = (s.get("problem") or {}).get("humidity")
+    if not hum:
+        return [], figures
+    parts = _capillary_section(s, hum, figures)
+    return parts, {k: v for k, v in figures.items() if k not in _CAPILLARY_FIGURES}
+
+
+#: The report sections a run kind names (:attr:`tribobem.runs.kind.RunKind.report_sections`):
+#: name -> ``(summary, figures) -> (HTML parts, figures left for the general list)``, each
+#: showing only what applies.
+REPORT_SECTIONS = {"friction": friction_section, "hysteresis": hysteresis_section, "capillary": capillary_section}
+
+
+def render_report(summary: dict, figures: dict | None = None, sections=None) -> str:
     """The HTML text of the report.
 
     Parameters
@@ -345,6 +384,9 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
         The run summary (as written to summary.json).
     figures : dict, optional
         Figure name -> PNG path; embedded in that order.
+    sections : sequence of str, optional
+        The kind's own sections (keys of :data:`REPORT_SECTIONS`), placed after the key
+        results; default: every section (each shows only what the summary holds).
     """
     s = jsonable(summary)
     e = html.escape
@@ -402,20 +444,15 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
     parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in rows]
     parts.append("</table>")
 
-    fric = [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS if s.get(key) is not None]
     figures = {k: v for k, v in (figures or {}).items() if v is not None and staged_source(v).exists()}
-    if is_hysteresis(s):
-        parts += _hysteresis_section(s, fric, figures)
-        figures = {k: v for k, v in figures.items() if not _is_hysteresis_figure(k)}
-    elif fric:
-        parts.append("<h2>Friction</h2><table>")
-        parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in fric]
-        parts.append("</table>")
-
-    hum = prob.get("humidity")
-    if hum:
-        parts += _capillary_section(s, hum, figures)
-        figures = {k: v for k, v in figures.items() if k not in _CAPILLARY_FIGURES}
+    names = tuple(REPORT_SECTIONS) if sections is None else tuple(sections)
+    unknown = [n for n in names if n not in REPORT_SECTIONS]
+    if unknown:
+        raise ValueError(f"unknown report section(s) {unknown}; known: {', '.join(REPORT_SECTIONS)}")
+    for name in names:
+        # each section shows what applies and the figures it placed leave the general list
+        html_parts, figures = REPORT_SECTIONS[name](s, figures)
+        parts += html_parts
 
     if figures:
         parts.append("<h2>Figures</h2>")
@@ -451,7 +488,14 @@ def render_report(summary: dict, figures: dict | None = None) -> str:
     return "".join(parts)
 
 
-def write_report(outdir, summary: dict, figures: dict | None = None, name: str = "report.html") -> Path:
-    """Render the report and write it atomically to ``outdir/name``."""
+def write_report(outdir, summary: dict, figures: dict | None = None, name: str = "report.html",
+                 sections=None) -> Path:
+    """Render the report (:func:`render_report`) and write it atomically to ``outdir/name``.
+
+    Returns
+    -------
+    pathlib.Path
+        The report's path.
+    """
     path = Path(outdir) / name
-    return atomic_write_text(path, render_report(summary, figures))
+    return atomic_write_text(path, render_report(summary, figures, sections))

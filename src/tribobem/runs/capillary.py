@@ -212,6 +212,7 @@ def check(sc) -> None:
 KIND = RunKind(
     name="capillary", run=run, check=check,
     summary="capillary adhesion from adsorbed water films and menisci at one load, RH by RH",
+    figures=("capillary", "maps"), report_sections=("capillary",),
     uses={"load": ("force", "approach"), "humidity": ALL, "body1": ("film", "hamaker"),
           "body2": ("film", "hamaker")},
     hints={"friction": "kind = 'capillary' is frictionless; leave [friction] out",

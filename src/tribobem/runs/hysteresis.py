@@ -242,6 +242,7 @@ _PATH = "its tangential loading is friction.path"
 KIND = RunKind(
     name="hysteresis", run=run, check=check,
     summary="friction hysteresis: tangential force or displacement cycles at one normal force",
+    figures=("hysteresis", "friction", "maps"), report_sections=("hysteresis",),
     uses={"load": ("force",), "friction": ("coefficient", "direction", "slip", "path")},
     hints={"load.forces": _ONE_FORCE, "load.approach": _ONE_FORCE, "load.approaches": _ONE_FORCE,
            "friction.tangential_forces": _PATH, "friction.tangential_displacements": _PATH},

@@ -132,6 +132,10 @@ class RunKind:
         instead, appended to the generic message.
     summary : str
         One line on what the kind computes (the CLI and the docs list it).
+    figures : tuple of str
+        The figure sets of its result folder (:data:`tribobem.output.figures.FIGURE_SETS`).
+    report_sections : tuple of str
+        Its own sections of report.html (:data:`tribobem.output.report.REPORT_SECTIONS`).
     """
 
     name: str
@@ -140,6 +144,8 @@ class RunKind:
     check: Optional[Callable[[Any], None]] = None
     hints: Mapping[str, str] = field(default_factory=dict)
     summary: str = ""
+    figures: tuple = ("maps",)
+    report_sections: tuple = ()
 
     def reads(self) -> dict[str, Union[str, frozenset]]:
         """Section -> the keys this kind reads (:data:`ALL`: every key); absent: not read."""

@@ -86,5 +86,6 @@ def check(sc) -> None:
 KIND = RunKind(
     name="normal", run=run, check=check,
     summary="normal contact at one load or along a list of loads (with Dugdale adhesion if given)",
+    figures=("load_curve", "maps"),
     uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",)},
 )

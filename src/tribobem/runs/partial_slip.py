@@ -158,6 +158,7 @@ _APPROACH = ("approach-controlled normal loads are not supported for kind = 'par
 KIND = RunKind(
     name="partial_slip", run=run, check=check,
     summary="partial slip along a tangential ramp or a normal-load path, to the gross-slip onset",
+    figures=("load_curve", "friction", "maps"), report_sections=("friction",),
     uses={"load": ("force", "forces"),
           "friction": ("coefficient", "tangential_forces", "tangential_displacements", "direction", "slip")},
     hints={"friction.path": "a partial_slip ramp is friction.tangential_forces or "

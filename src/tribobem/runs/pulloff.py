@@ -116,6 +116,7 @@ def check(sc) -> None:
 KIND = RunKind(
     name="pulloff", run=run, check=check,
     summary="the pull-off force: unloading from a preload (Dugdale adhesion, or capillary with [humidity])",
+    figures=("load_curve", "capillary", "maps"), report_sections=("capillary",),
     uses={"load": _DRY_LOAD, "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker")},
     hints={"friction": "a pull-off is frictionless; leave [friction] out",
            **{f"load.{k}": "a pull-off unloads from load.preload (a compressive force; left out: from the "

@@ -21,6 +21,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import ConvergenceWarning, InputError
+from ..runs import KINDS as RUN_KINDS
 from ..runs import NotImplementedKindError, get_runner
 from .build import Problem, build_problem
 from .schema import Scenario, parse_scenario
@@ -353,8 +354,10 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         # Every file goes to a temporary file first and all move into place together at the
         # end: a Ctrl-C leaves the folder's previous complete files (or none), never a mix.
         with staged():
+            kind = RUN_KINDS[sc.kind]
             files = write_outputs(out_path, summary, ds if keep != "none" else None,
-                                  figures=sc.output.figures, report=sc.output.report)
+                                  figures=sc.output.figures, report=sc.output.report,
+                                  figure_sets=kind.figures, report_sections=kind.report_sections)
             summary["timings"]["output"] = time.perf_counter() - t_out
             summary["timings"]["total"] = time.perf_counter() - t0
             files["summary"] = write_summary(out_path / "summary.json", summary)
