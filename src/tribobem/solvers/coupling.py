@@ -13,8 +13,8 @@ A warm-started step (``initial``) first solves the tangential problem at the pre
 (the last step's, or its linear extrapolation): the shear-induced normal displacement of the
 first pass is then one contraction of the fixed point closer to the solution than the one of the
 old (or extrapolated) shear, and the first pass's pressure change, measured against the predicted
-pressure, is a genuine fixed-point difference (measured: one pass fewer per step, 3 instead of 4
-on the adhesive loop; the loop's forces and displacements closer to a 1e-9 reference).
+pressure, is a genuine fixed-point difference (one pass fewer per step, and the loop's forces and
+displacements closer to a tightly converged reference).
 
 The outer fixed point uz -> K_zt q(p(uz)) is accelerated by Anderson(1) mixing.  The inner
 solves are inexact while the loop is far from converged (tangential: 1e-2 x the last pressure
@@ -24,9 +24,8 @@ from the measured contraction rho) needs only the pressure, so it is made right 
 normal solve: a normal solve accepted at an inexact tolerance is finished at ``tol`` (no extra
 pass), and the final pass's tangential solve is always at ``tangential_tol`` and the only one
 that builds the full slip fields (the intermediate ones use ``full_fields=False`` and the slip
-scale of the step's first tangential solve).  Measured on the 256^2 3 x 80 adhesive loop
-(benchmarks/hysteresis.py, validation tolerances): 2.6 passes, 32.5 tangential (FFT-preconditioned
-TangCG) and 77 normal iterations per step.
+scale of the step's first tangential solve).  Measured passes and iterations per step:
+benchmarks/README.md ("Solver notes moved from docstrings").
 
 Identical materials (or a zero coupling compliance) make one pass.  The loop never stops
 silently: a non-converged outer loop gives ``converged=False``, the history of the pressure
@@ -41,15 +40,15 @@ import warnings
 import numpy as np
 
 from ..elasticity.operators import ConvolutionOperator
+from ..elasticity.tangential import tangential_operator
 from ..errors import ConvergenceWarning, InputError
 from ..results import CoupledResult, NormalResult
 from .normal import solve_normal
-from .tangential import GrossSlipError, solve_tangential, tangential_operator
+from .tangential import GrossSlipError, solve_tangential
 
 __all__ = ["solve_coupled"]
 
-#: Anderson(1) mixing of the outer fixed point (measured: same onset to 5 digits, 30 % less CPU on
-#: the Paper D ramp at 96^2).
+#: Anderson(1) mixing of the outer fixed point (the same results, less CPU; benchmarks/README.md).
 ANDERSON = True
 #: Loosest normal tolerance of the early coupling passes (None: every pass at full accuracy).
 INEXACT_NORMAL = 1e-6
@@ -58,8 +57,8 @@ INEXACT_TANGENTIAL = 1e-4
 #: Solve the tangential problem at the predicted pressure before the first pass of a warm-started
 #: step (see ``solve_coupled``).
 PREDICTOR = True
-#: Tolerance of the predictor's tangential solve (measured on the 128^2 loop: the first pass starts as
-#: close with 1e-2 as with 1e-6; 1e-3 saves 5 % of the FFTs against 1e-4).
+#: Tolerance of the predictor's tangential solve (dimensionless; a loose one suffices: the first pass
+#: starts as close, benchmarks/README.md).
 PREDICTOR_TOL = 1e-3
 
 

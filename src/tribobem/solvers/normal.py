@@ -13,10 +13,8 @@ with g = h + K p - delta.  The contact nodes are the CG unknowns; the non-contac
 follow the gap.  Each iteration costs one convolution (K t) and updates u = K p from it
 incrementally; when nodes change status, their few columns of K are added in real space
 (at most ``_SPARSE_MAX_NODES``, elasticity/columns.py), else K p is recomputed (a second
-convolution).  On the benchmark surface (benchmarks/normal_vs_tamaas.py, 1024^2) that is
-1.48 convolutions per iteration instead of 1.78, with the same iterations, contact nodes
-and pressures to 1e-12; u is recomputed exactly every ``refresh`` iterations and before
-convergence is declared.
+convolution), which saves convolutions without changing the iterations or the contact nodes;
+u is recomputed exactly every ``refresh`` iterations and before convergence is declared.
 
 Differences from the printed algorithm (documented in the README):
 
@@ -32,37 +30,38 @@ Differences from the printed algorithm (documented in the README):
   residual history and ``converged=False``;
 * the conjugate direction restarts from steepest descent whenever a node changes status
   (Polonsky-Keer restart only on overlap), after a force rescale, and when it is not a
-  descent direction: warm starts then need fewer iterations than cold starts and adhesive
-  solves about 25 % fewer, for about 3 % more on non-adhesive rough contacts;
+  descent direction: warm starts then need fewer iterations than cold starts, and adhesive
+  solves need fewer, at a small cost on non-adhesive rough contacts;
 * smooth outside laws (an interaction with ``outside_branch``, see interactions.base, e.g.
   the capillary law with its van der Waals 1/g^3 terms): their stresses change at every
   iteration, which restarted the CG at every iteration.  A change that keeps every node on
-  the same piece of the law is now deferred: the CG runs on the frozen outside load until
-  its relative pressure change falls below 10 x the relative mismatch of the outside
-  stresses, then the outside stresses are applied (one restart) -- an inexact fixed point on
-  the outside load.  Convergence also requires that mismatch below ``tol``.  Measured on a
-  sphere (R = 1 um on silica, 128^2 and 256^2, RH 0.5 meniscus + van der Waals with SiO2 or
-  Si constants, with and without Dugdale, force and approach control): 1.4-3.9x fewer
-  iterations than restarting at every iteration (36-67 against 59-210); rough 256^2
-  contacts (Paper B 4.2-like): 1.2-1.4x.  Applying the smooth change at every iteration
-  while keeping the conjugate directions stalled (5000+ iterations); deferral ratios 0.3-30
-  were tried, 10 was best.  Dugdale and non-adhesive solves are bitwise unchanged.
+  the same piece of the law is deferred: the CG runs on the frozen outside load until its
+  relative pressure change falls below 10 x the relative mismatch of the outside stresses,
+  then the outside stresses are applied (one restart) -- an inexact fixed point on the
+  outside load.  Convergence also requires that mismatch below ``tol``.  Applying the smooth
+  change at every iteration while keeping the conjugate directions stalls them.  Dugdale and
+  non-adhesive solves are unaffected by the deferral.
+
+Measured iteration counts and timings of these choices: benchmarks/README.md ("Solver notes
+moved from docstrings").  The iteration loop (stall detection, convergence test with an exact
+recompute, history, messages) is :func:`.iteration.run_iterations`, shared with
+:mod:`.normal_cg` and :mod:`.tangential`; the input checks and the result assembly are those of
+:mod:`.normal_problem`, shared with :mod:`.normal_cg`; this module supplies the Polonsky-Keer
+step (:class:`_CGState`).
 """
 
 from __future__ import annotations
 
 import math
 import time
-import warnings
-
-import numpy as np
 
 from ..elasticity.columns import KernelColumns, convolve, convolve_buffers
 from ..elasticity.operators import ConvolutionOperator
-from ..errors import ConvergenceError, ConvergenceWarning, InputError
+from ..errors import InputError
 from ..interactions.base import NoInteraction
 from ..results import NormalResult
-
+from .iteration import IterativeSolver, dot, run_iterations
+from .normal_problem import normal_problem, normal_result
 
 #: Largest number of nodes whose pressure may change outside the CG step (leavers, entering
 #: overlaps, changed outside stresses) for the displacement to be corrected with columns of
@@ -117,8 +116,10 @@ def solve_normal(
         Stress law outside contact, e.g. :class:`~tribobem.interactions.DugdaleAdhesion`.
         None: non-adhesive contact.
     tol : float
-        Tolerance on the relative pressure change per iteration.
+        Tolerance on the relative pressure change per iteration and on the rms contact gap
+        relative to the range of ``gap`` (both must be below it).
     max_iterations : int
+        Iteration limit.
     initial_pressure : array_like or NormalResult, optional
         Warm start (Pa), e.g. the pressure of the previous load step (a
         :class:`NormalResult` gives both its pressure and its contact mask).
@@ -129,25 +130,33 @@ def solve_normal(
     strict : bool
         Raise :class:`~tribobem.errors.ConvergenceError` instead of warning when the solver
         does not converge.
-    stall : int
-        Stop (not converged) when the residual has not improved on its best value for
-        this many iterations, e.g. when no equilibrium exists near an instability.
     refresh : int
         Recompute the displacement exactly at least every ``refresh`` iterations (between
         refreshes it is updated incrementally while the contact set does not change, and
         with kernel columns when at most ``_SPARSE_MAX_NODES`` nodes change status).
-
+    stall : int
+        Stop (not converged) when the residual has not improved on its best value for
+        this many iterations, e.g. when no equilibrium exists near an instability.
     method : {"polonsky_keer", "normcg"}
         ``"polonsky_keer"`` (default): this module's constrained CG.  ``"normcg"``:
         Vollebregt's FFT-preconditioned bound-constrained CG
         (:func:`tribobem.solvers.normal_cg.solve_normal_cg`, same arguments and result):
-        27-50 iterations at 256^2-2048^2 on the benchmark surface against 62-197, identical
-        contact nodes, 0.36-0.81x the CPU time; with Dugdale adhesion it may stop at another,
-        equally valid equilibrium of the non-convex problem (benchmarks/normal_iterations.py).
+        fewer iterations, whose count does not grow with the grid, and identical contact
+        nodes on non-adhesive problems; with Dugdale adhesion it may stop at another, equally
+        valid equilibrium of the non-convex problem (benchmarks/normal_iterations.py).
 
     Returns
     -------
     NormalResult
+        ``info`` holds ``max_penetration`` (m), ``interaction``, ``operator`` and
+        ``counters`` (convolutions of the iteration, see ``_CGState.stats``).
+
+    Raises
+    ------
+    InputError
+        Bad load, gap, tolerance, iteration limit, warm start or method.
+    ConvergenceError
+        With ``strict``, when the solver does not converge.
     """
     if method == "normcg":
         from .normal_cg import solve_normal_cg
@@ -159,139 +168,22 @@ def solve_normal(
         raise InputError("solver.method", f"must be 'polonsky_keer' or 'normcg', got {method!r}")
     t_start = time.perf_counter()
     op = operator.normal
-    xp, grid = op.xp, op.grid
-    inter = interaction if interaction is not None else NoInteraction()
-    floor = float(inter.floor)
-
-    if (force is None) == (approach is None):
-        raise InputError("load", "give exactly one of force (force control) or approach (displacement control)")
-    h = xp.asarray(gap, dtype=float)
-    if h.shape != grid.shape:
-        raise InputError("gap", f"shape {tuple(h.shape)} does not match the grid {grid.shape}")
-    if not bool(xp.all(xp.isfinite(h))):
-        bad = int(xp.count_nonzero(~xp.isfinite(h)))
-        raise InputError("gap", f"{bad} points are NaN or infinite; fill or crop the topography first")
-    if not (tol > 0 and math.isfinite(tol)):
-        raise InputError("solver.tolerance", f"must be a finite value > 0, got {tol!r}")
-    if max_iterations < 1:
-        raise InputError("solver.max_iterations", f"must be >= 1, got {max_iterations!r}")
-
-    cell = grid.cell_area
-    force_control = force is not None
-    if force_control:
-        if not math.isfinite(force):
-            raise InputError("load.force", f"must be finite, got {force!r}")
-        if floor == 0.0 and force <= 0.0:
-            raise InputError("load.force", f"must be > 0 N without adhesion, got {force!r}")
-        target = force / cell  # target sum of p
-        shift = 0.0
-    else:
-        target = None
-        if not math.isfinite(approach):
-            raise InputError("load.approach", f"must be finite, got {approach!r}")
-        shift = float(approach)  # the solver works on h - approach without storing it
-
-    # Step 1: initial pressure (one array, owned by the solver state).
-    if isinstance(initial_pressure, NormalResult):
-        initial_contact = initial_pressure.contact if initial_contact is None else initial_contact
-        initial_pressure = initial_pressure.pressure
-    if initial_pressure is not None:
-        p = xp.array(initial_pressure, dtype=float, order="C")
-        if p.shape != grid.shape:
-            raise InputError("initial_pressure", f"shape {tuple(p.shape)} does not match the grid {grid.shape}")
-        xp.maximum(p, floor, out=p)
-    elif force_control:
-        p = xp.full(grid.shape, target / h.size)
-    else:
-        p = xp.zeros(grid.shape)
-    if initial_contact is not None:
-        contact = xp.asarray(initial_contact, dtype=bool) & (p > floor)
-    elif force_control or initial_pressure is not None:
-        contact = p > floor
-    else:
-        contact = xp.zeros(grid.shape, dtype=bool)
-
+    h, inter, floor, force_control, target, shift, p, contact = normal_problem(
+        op, gap, force, approach, interaction, tol, max_iterations, initial_pressure, initial_contact)
     state = _CGState(op, inter, floor, h, shift, p, contact, force_control, target, refresh)
-    del p, contact
-    history: list[float] = []
-    converged = False
-    message = ""
-    best, best_it = float("inf"), 0
-    for it in range(1, max_iterations + 1):
-        status = state.iterate()
-        if status is not None:
-            message = status
-            break
-        residual = max(state.error, state.gap_residual, state.out_error)
-        history.append(residual)
-        if residual < best:
-            best, best_it = residual, it
-        elif it - best_it >= stall:
-            message = (f"stalled: no progress in {stall} iterations (residual {residual:.3e}, best "
-                       f"{best:.3e}, tolerance {tol:.1e}); near an instability there may be no equilibrium")
-            break
-        if residual < tol:
-            if state.started_exact:
-                converged = True
-                message = f"converged in {it} iterations"
-                break
-            # The displacement was updated incrementally: confirm with an exact one.
-            state.make_exact()
-    else:
-        message = f"not converged after {max_iterations} iterations (residual {history[-1]:.3e}, tolerance {tol:.1e})"
+    del p, contact  # the state owns the pressure and a copy of the mask
+    outcome = run_iterations(state, tol=tol, max_iterations=max_iterations, stall=stall)
     p, contact = state.full_pressure(), state.cmask
-    delta = state.delta if force_control else float(approach)
     counters = state.stats()  # result.info["counters"] (benchmarks/profile_iteration.py, tests)
-
-    # Final fields, consistent with the returned pressure (the solver's displacement when it
-    # is exact for this pressure, else one more convolution).
-    u = state.u.reshape(grid.shape) if state.u_exact else None
+    # The solver's displacement when it is exact for this pressure, else one more convolution.
+    u = state.u.reshape(op.grid.shape) if state.u_exact else None
     del state  # its work arrays go before the last convolution allocates
     if u is None:
         u = convolve(op, p)
-    g = u + h
-    n_c = int(xp.count_nonzero(contact))
-    if force_control:
-        delta = float(xp.sum(xp.where(contact, g, 0.0))) / n_c if n_c else float("nan")
-    g -= delta if n_c or not force_control else float(xp.min(g))
-    gap_field = xp.where(contact, 0.0, g)
-    penetration = float(-xp.min(gap_field)) if n_c < g.size else 0.0
-    del g
-    xp.maximum(gap_field, 0.0, out=gap_field)
-    adhesive = (~contact) & (p < 0)
-    be = op.backend
-    total = float(xp.sum(p)) * cell
-    if not converged:
-        if strict:
-            raise ConvergenceError(message)
-        warnings.warn(message, ConvergenceWarning, stacklevel=2)
-    return NormalResult(
-        grid=grid,
-        pressure=be.to_numpy(p),
-        gap=be.to_numpy(gap_field),
-        displacement=be.to_numpy(u),
-        contact=be.to_numpy(contact),
-        adhesive=be.to_numpy(adhesive),
-        force=total,
-        approach=delta,
-        iterations=len(history),
-        residual_history=np.asarray(history),
-        converged=converged,
-        time=time.perf_counter() - t_start,
-        message=message,
-        control="force" if force_control else "displacement",
-        info={"max_penetration": max(penetration, 0.0), "interaction": repr(inter), "operator": op.kind,
-              "counters": counters},
-    )
+    return normal_result(op, h, p, contact, u, approach, inter, outcome, strict, t_start, {"counters": counters})
 
 
-def _dot(a, b) -> float:
-    """Dot product without BLAS: on a busy machine OpenBLAS threads spin against the FFT
-    threads and a 10^4-element ``a @ b`` can cost as much as a full-grid pass."""
-    return float((a * b).sum())
-
-
-class _CGState:
+class _CGState(IterativeSolver):
     """Working state of the constrained CG (Paper A steps 2-6).
 
     ``p`` is the full (flat) pressure, ``idx`` the flat indices of the contact nodes, and
@@ -346,7 +238,7 @@ class _CGState:
         self.branch_fn = getattr(inter, "outside_branch", None) if self.has_outside else None
         self.branch = None
         self.out_error = 0.0  # relative mismatch of deferred smooth outside stresses
-        self.defer_ratio = 10.0  # apply once the CG change is within 10x the outside mismatch (measured best of 0.3-30)
+        self.defer_ratio = 10.0  # apply once the CG change is within 10x the outside mismatch (benchmarks/README.md)
         # W = 0: no outside stress, floor 0 and no pressure outside the contact (a warm start
         # may bring some); then a rescale needs no W and status changes can be sparse.
         self.w_zero = (not self.has_outside and floor == 0.0
@@ -360,11 +252,30 @@ class _CGState:
         self.buffered = convolve_buffers(op)[0] is not None
         # Counters (benchmarks): convolutions for K t, exact K p, W; sparse updates and their columns.
         self.n_kt = self.n_exact = self.n_w = self.n_sparse = self.n_columns = 0
-        self.make_exact()
+        self.started_exact = False
 
     def stats(self) -> dict:
         return {"kt": self.n_kt, "exact": self.n_exact, "w": self.n_w, "sparse_updates": self.n_sparse,
                 "sparse_columns": self.n_columns}
+
+    # -- the steps run by iteration.run_iterations
+    def start(self):
+        """Exact displacement of the initial pressure (the start always exists: None)."""
+        self.make_exact()
+
+    def residual(self) -> float:
+        """Largest of the relative pressure change, the relative rms contact gap and the
+        mismatch of deferred outside stresses."""
+        return max(self.error, self.gap_residual, self.out_error)
+
+    def is_exact(self) -> bool:
+        """Whether the iteration started from an exact displacement."""
+        return self.started_exact
+
+    def confirm(self, tol: float) -> bool:
+        """Recompute the displacement exactly; convergence is then tested on the next iteration."""
+        self.make_exact()
+        return False
 
     @property
     def cmask(self):
@@ -421,9 +332,9 @@ class _CGState:
             g_c = self.u[idx] + (self.h[idx] - self.shift)
 
         # Step 3: conjugate direction.
-        G = _dot(g_c, g_c)
+        G = dot(g_c, g_c)
         t_c = g_c + (G / self.G_old) * self.t_c if (self.conjugate and self.G_old > 0) else g_c
-        if t_c is not g_c and _dot(g_c, t_c) <= 0.0:
+        if t_c is not g_c and dot(g_c, t_c) <= 0.0:
             t_c = g_c  # not a descent direction: restart from steepest descent
         self.G_old = G
         self.gap_residual = math.sqrt(G / n_c) / self.h_scale if n_c else 0.0
@@ -441,11 +352,11 @@ class _CGState:
             r = convolve(op, t_full.reshape(self.shape), out=r_buf, spectrum=spec_buf).ravel()
             self.n_kt += 1
             r_c = r[idx]
-            rt = _dot(r_c, t_c)
+            rt = dot(r_c, t_c)
             if self.force_control:
                 rt -= float(r_c.mean()) * float(t_c.sum())
             del r_c
-            self.tau = _dot(g_c, t_c) / rt if rt > 0 else self.tau0
+            self.tau = dot(g_c, t_c) / rt if rt > 0 else self.tau0
         elif n_c > 0:
             self.tau = 0.0
         else:

@@ -49,37 +49,30 @@ Cost per iteration: two convolutions (K d and M r), a third after an iteration i
 left the contact or outside stresses changed (the displacement is then recomputed exactly;
 otherwise it is updated incrementally and refreshed every ``refresh`` iterations).  Skipping
 that exact recompute (updating u incrementally and ignoring the truncation of the leavers)
-was tried: 3.5-5x more iterations (205 instead of 41 at 1024^2), so it is not done.
+needs several times more iterations, so it is not done.
 
-Measured (benchmarks/normal_iterations.py, tol 1e-10, one FFT thread, shared 2-core machine;
-table in benchmarks/README.md): on the benchmark surface (periodic self-affine, 0.01 E*)
-27 / 33 / 41 / 50 iterations at 256^2 / 512^2 / 1024^2 / 2048^2 against Polonsky-Keer's
-62 / 88 / 174 / 197, with identical contact node sets and pressures within 1.3e-9 of the
-peak; 2.7 convolutions per iteration; CPU time 0.81 / 0.63 / 0.36 / 0.42 of Polonsky-Keer's.
-Dugdale problem (displacement control): 22 / 28 / 39 iterations against 46 / 67 / 168 at
-256^2-1024^2, CPU ratio 0.92 / 0.74 / 0.38, other (valid) equilibria: contact node counts
-0.3-2 % apart, forces within 0.9 %.  Hertz (free boundary): 22-28 iterations against 47-65.
+The iteration loop (stall detection, convergence test with an exact recompute, history,
+messages) is :func:`.iteration.run_iterations`; the input checks and the result assembly are
+those of :mod:`.normal_problem` (shared with :mod:`.normal`); this module supplies the NormCG
+step (:class:`_NormCG`).  Measured iteration counts and CPU times against Polonsky-Keer:
+benchmarks/README.md (the NormCG section, and "Solver notes moved from docstrings").
 """
 
 from __future__ import annotations
 
 import math
 import time
-import warnings
 
 import numpy as np
 
 from ..elasticity.operators import ConvolutionOperator
-from ..errors import ConvergenceError, ConvergenceWarning, InputError
+from ..errors import InputError
 from ..interactions.base import NoInteraction
 from ..results import NormalResult
+from .iteration import IterativeSolver, dot, run_iterations
+from .normal_problem import normal_problem, normal_result
 
 __all__ = ["solve_normal_cg", "fft_preconditioner"]
-
-
-def _dot(a, b) -> float:
-    """Dot product as a reduction (no BLAS threads spinning against the FFT threads)."""
-    return float((a * b).sum())
 
 
 def fft_preconditioner(operator: ConvolutionOperator) -> ConvolutionOperator:
@@ -174,61 +167,20 @@ def solve_normal_cg(
         As :func:`~tribobem.solvers.normal.solve_normal`; ``info`` adds ``method``
         ("normcg"), ``set_changes`` (iterations in which the contact set or an outside
         stress changed) and ``convolutions`` (number of FFT convolutions).
+
+    Raises
+    ------
+    InputError
+        Bad load, gap, tolerance, iteration limit, ``refresh`` or warm start.
+    ConvergenceError
+        With ``strict``, when the solver does not converge.
     """
     t_start = time.perf_counter()
     op = operator.normal
     xp, grid = op.xp, op.grid
-    inter = interaction if interaction is not None else NoInteraction()
-    floor = float(inter.floor)
-    has_outside = not isinstance(inter, NoInteraction)
-
-    if (force is None) == (approach is None):
-        raise InputError("load", "give exactly one of force (force control) or approach (displacement control)")
-    h = xp.asarray(gap, dtype=float)
-    if h.shape != grid.shape:
-        raise InputError("gap", f"shape {tuple(h.shape)} does not match the grid {grid.shape}")
-    if not bool(xp.all(xp.isfinite(h))):
-        bad = int(xp.count_nonzero(~xp.isfinite(h)))
-        raise InputError("gap", f"{bad} points are NaN or infinite; fill or crop the topography first")
-    if not (tol > 0 and math.isfinite(tol)):
-        raise InputError("solver.tolerance", f"must be a finite value > 0, got {tol!r}")
-    if max_iterations < 1:
-        raise InputError("solver.max_iterations", f"must be >= 1, got {max_iterations!r}")
-    if refresh < 1:
-        raise InputError("solver.refresh", f"must be >= 1, got {refresh!r}")
-
-    cell = grid.cell_area
-    force_control = force is not None
-    if force_control:
-        if not math.isfinite(force):
-            raise InputError("load.force", f"must be finite, got {force!r}")
-        if floor == 0.0 and force <= 0.0:
-            raise InputError("load.force", f"must be > 0 N without adhesion, got {force!r}")
-        target = force / cell  # target sum of p (Pa)
-        h_eff = h
-    else:
-        target = None
-        if not math.isfinite(approach):
-            raise InputError("load.approach", f"must be finite, got {approach!r}")
-        h_eff = h - approach
-
-    # Initial pressure and contact set (as solve_normal).
-    if isinstance(initial_pressure, NormalResult):
-        initial_contact = initial_pressure.contact if initial_contact is None else initial_contact
-        initial_pressure = initial_pressure.pressure
-    if initial_pressure is not None:
-        p = xp.array(initial_pressure, dtype=float)
-        if p.shape != grid.shape:
-            raise InputError("initial_pressure", f"shape {tuple(p.shape)} does not match the grid {grid.shape}")
-        p = xp.maximum(p, floor)
-    else:
-        p = xp.full(grid.shape, target / h.size) if force_control else xp.zeros(grid.shape)
-    if initial_contact is not None:
-        contact = xp.asarray(initial_contact, dtype=bool) & (p > floor)
-    elif force_control or initial_pressure is not None:
-        contact = p > floor
-    else:
-        contact = xp.zeros(grid.shape, dtype=bool)
+    h, inter, floor, force_control, target, _, p, contact = normal_problem(
+        op, gap, force, approach, interaction, tol, max_iterations, initial_pressure, initial_contact, refresh)
+    h_eff = h if force_control else h - approach
     if force_control and not bool(contact.any()):
         # A warm start without contact cannot be rescaled to the force: start cold.
         p = xp.full(grid.shape, target / h.size)
@@ -236,83 +188,15 @@ def solve_normal_cg(
 
     solver = _NormCG(op, inter, floor, h_eff, p, contact, target, refresh,
                      fft_preconditioner(op) if precondition else None)
-    history: list[float] = []
-    converged = False
-    message = ""
-    best, best_it = float("inf"), 0
-    status = solver.start()
-    it = 0
-    while status is None and it < max_iterations:
-        it += 1
-        status = solver.iterate()
-        if status is not None:
-            break
-        residual = max(solver.pressure_change, solver.gap_residual)
-        history.append(residual)
-        if residual < best:
-            best, best_it = residual, it
-        elif it - best_it >= stall:
-            status = (f"stalled: no progress in {stall} iterations (residual {residual:.3e}, best "
-                      f"{best:.3e}, tolerance {tol:.1e}); near an instability there may be no equilibrium")
-            break
-        if residual < tol and not solver.changed:
-            if solver.exact:
-                converged = True
-                status = f"converged in {it} iterations"
-                break
-            # The displacement was updated incrementally: confirm with an exact one.
-            solver.make_exact()
-            if solver.gap_residual < tol and not solver.changed:
-                converged = True
-                status = f"converged in {it} iterations"
-                break
-    if status is None:
-        status = (f"not converged after {max_iterations} iterations (residual {history[-1]:.3e}, "
-                  f"tolerance {tol:.1e})" if history else "not converged")
-    message = status
-
-    # Final fields, consistent with the returned pressure (the same as solve_normal).
+    outcome = run_iterations(solver, tol=tol, max_iterations=max_iterations, stall=stall)
     p = solver.p.reshape(grid.shape)
     contact = solver.cm.reshape(grid.shape)
-    u = op.apply(p)
-    g = u + h
-    n_c = int(xp.count_nonzero(contact))
-    if force_control:
-        delta = float(xp.sum(xp.where(contact, g, 0.0))) / n_c if n_c else float("nan")
-    else:
-        delta = float(approach)
-    g = g - delta if n_c or not force_control else g - float(xp.min(g))
-    gap_field = xp.where(contact, 0.0, xp.maximum(g, 0.0))
-    penetration = float(-xp.min(xp.where(contact, 0.0, g))) if n_c < g.size else 0.0
-    adhesive = (~contact) & (p < 0)
-    be = op.backend
-    total = float(xp.sum(p)) * cell
-    if not converged:
-        if strict:
-            raise ConvergenceError(message)
-        warnings.warn(message, ConvergenceWarning, stacklevel=2)
-    return NormalResult(
-        grid=grid,
-        pressure=be.to_numpy(p),
-        gap=be.to_numpy(gap_field),
-        displacement=be.to_numpy(u),
-        contact=be.to_numpy(contact),
-        adhesive=be.to_numpy(adhesive),
-        force=total,
-        approach=delta,
-        iterations=len(history),
-        residual_history=np.asarray(history),
-        converged=converged,
-        time=time.perf_counter() - t_start,
-        message=message,
-        control="force" if force_control else "displacement",
-        info={"max_penetration": max(penetration, 0.0), "interaction": repr(inter), "operator": op.kind,
-              "method": "normcg" if precondition else "bccg", "set_changes": solver.set_changes,
-              "convolutions": solver.convolutions},
-    )
+    return normal_result(op, h, p, contact, op.apply(p), approach, inter, outcome, strict, t_start,
+                          {"method": "normcg" if precondition else "bccg", "set_changes": solver.set_changes,
+                           "convolutions": solver.convolutions})
 
 
-class _NormCG:
+class _NormCG(IterativeSolver):
     """Working state of the bound-constrained preconditioned CG (flat arrays).
 
     ``p`` full pressure (Pa), ``cm`` contact mask, ``idx`` its flat indices, ``u`` = K p (m),
@@ -346,6 +230,25 @@ class _NormCG:
         self.convolutions = 0
         self.pressure_change = float("inf")
         self.gap_residual = float("inf")
+
+    # -- the steps run by iteration.run_iterations (start and iterate below)
+    def residual(self) -> float:
+        """Larger of the relative pressure change and the relative rms contact gap."""
+        return max(self.pressure_change, self.gap_residual)
+
+    def settled(self) -> bool:
+        """No change of the contact set or of an outside stress in the last iteration."""
+        return not self.changed
+
+    def is_exact(self) -> bool:
+        """Whether the displacement is exact (recomputed, not updated incrementally)."""
+        return self.exact
+
+    def confirm(self, tol: float) -> bool:
+        """Recompute the displacement exactly; converged if the gap residual stays below ``tol``
+        and nothing changes."""
+        self.make_exact()
+        return self.gap_residual < tol and not self.changed
 
     # ---------------------------------------------------------------------------------
     def K(self, v):
@@ -411,7 +314,7 @@ class _NormCG:
         self.g = g
         self.r = g[idx]
         n_c = len(idx)
-        self.gap_residual = math.sqrt(_dot(self.r, self.r) / n_c) / self.h_scale if n_c else 0.0
+        self.gap_residual = math.sqrt(dot(self.r, self.r) / n_c) / self.h_scale if n_c else 0.0
         return None
 
     def start(self):
@@ -454,10 +357,10 @@ class _NormCG:
             z -= z.mean()
 
         # Polak-Ribiere direction, kept across changes of the contact set (d = 0 off C).
-        rz = _dot(r, z)
+        rz = dot(r, z)
         d_c = self.d[idx]
         if self.rz_old > 0 and rz > 0:
-            beta = max(0.0, (rz - _dot(z, self.r_old[idx])) / self.rz_old)
+            beta = max(0.0, (rz - dot(z, self.r_old[idx])) / self.rz_old)
             d_c *= beta
             d_c += z
         else:
@@ -475,8 +378,8 @@ class _NormCG:
         q_c = q[idx]
         if self.force_control:
             q_c = q_c - q_c.mean()
-        dq = _dot(d_c, q_c)
-        rd = _dot(r, d_c)
+        dq = dot(d_c, q_c)
+        rd = dot(r, d_c)
         if not (dq > 0 and rd > 0):
             # Not a descent direction (round-off near convergence): restart next time.
             self.rz_old = 0.0

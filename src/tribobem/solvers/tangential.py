@@ -38,23 +38,17 @@ rigid shift delta is the multiplier of that constraint.  Two solvers:
     rim only, with the curvature term).  M acts on the bounding box of the contact (a periodic
     box of m1 x m2 cells): its symbol is that of Strang's circulant approximation of K_tt on the
     box (the kernels cut to offsets |d| <= m/2 and wrapped), not the operator's own (padded)
-    spectrum -- measured, the box is both cheaper (the contacts of the benchmarks and tests fill
-    1/2-2/3 of each axis of the grid: a box transform is 1/16-1/7 of a padded one) and better:
-    30 instead of 55 iterations (Cattaneo-Mindlin 128^2, Q = 0.3 mu P) with the inverse of the padded 2n x 2n
-    spectrum.  Slip nodes in M as well (scaled by K_ii/(K_ii + curvature)) was tried: as good on
-    Cattaneo-Mindlin and the 128^2 40-step hysteresis loop, 1.7x the iterations on the 256^2
-    20-step loop.  Measured (Cattaneo-Mindlin,
-    Q = 0.3 / 0.8 mu P, tol 1e-9, free boundary): 30 / 32 iterations at 128^2 and 33 / 38 at
-    256^2 (against 65 / 59 and 93 / 73 with the diagonal), 2.6 convolutions each, of which one
-    on the box; the same stick nodes and tractions within 1e-8 mu p_max;
-  - ``"diagonal"``: K_ii (and K_ii + curvature on slip nodes): 50-90 iterations on
-    Cattaneo-Mindlin at 128^2-256^2 (about 1.3 convolutions each), growing with the grid.
+    spectrum: the box transform is much smaller than the padded one, and the preconditioner
+    better.  Slip nodes in M as well (scaled by K_ii/(K_ii + curvature)) was tried and needs
+    more iterations on larger loops.  The iteration count barely grows with the grid; the
+    stick nodes and tractions are those of the diagonal preconditioner to the tolerance;
+  - ``"diagonal"``: K_ii (and K_ii + curvature on slip nodes): fewer convolutions per iteration
+    (no preconditioner convolution) but an iteration count that grows with the grid.
 
-  Against 260-900 iterations for the projected gradient.  On a free-boundary grid the product
-  K_tt v of an iteration is a cyclic convolution on the contact's bounding box (m1 x m2 cells,
-  N >= 2m - 1 points per axis: exact, since the shear vanishes outside the contact and the slip
-  is needed on it only), not on the padded 2nx x 2ny grid: 324^2 instead of 384^2-512^2 on the
-  256^2 hysteresis benchmark;
+  Either needs several times fewer iterations than the projected gradient.  On a free-boundary
+  grid the product K_tt v of an iteration is a cyclic convolution on the contact's bounding box
+  (m1 x m2 cells, N >= 2m - 1 points per axis: exact, since the shear vanishes outside the
+  contact and the slip is needed on it only), not on the padded 2nx x 2ny grid;
 * ``method="fista"``, and the fallback when TangCG stalls or, under force control, no node
   sticks: an accelerated projected gradient (FISTA, Beck and Teboulle 2009) with adaptive restart
   (O'Donoghue and Candes 2015): a gradient step of length 1/L (L the largest eigenvalue of the
@@ -70,22 +64,29 @@ max|K_tt (mu p e_x)| (the displacement that full slip along x would produce).  T
 stops silently short of the tolerance: non-convergence gives ``converged=False``, the
 residual history and a :class:`~tribobem.errors.ConvergenceWarning` (or an error with
 ``strict=True``).
+
+The elasticity (K_tt, K_tz, K_zt, the box convolutions and the FFT preconditioner) is
+:class:`~tribobem.elasticity.tangential.TangentialOperator`; the iteration loop (checks, stall
+detection, history, messages) is :func:`.iteration.run_iterations`, which runs TangCG
+(:class:`_TangCG`) and the projected gradient (:class:`_ProjectedGradient`).  Measured
+iteration counts: benchmarks/README.md (the TangCG section, and "Solver notes moved from
+docstrings").
 """
 
 from __future__ import annotations
 
 import math
 import time
-import warnings
 
 import numpy as np
 
-from ..elasticity.backend import work_buffers
 from ..elasticity.operators import ConvolutionOperator
-from ..errors import ConvergenceError, ConvergenceWarning, InputError
+from ..elasticity.tangential import TangentialOperator, tangential_operator  # noqa: F401 (benchmarks' conv_timer)
+from ..errors import InputError
 from ..results import TangentialResult
+from .iteration import IterativeSolver, dot, report_failure, run_iterations
 
-__all__ = ["TangentialOperator", "tangential_operator", "solve_tangential", "GrossSlipError"]
+__all__ = ["GrossSlipError", "solve_tangential"]
 
 
 #: Preconditioner of TangCG when ``solve_tangential(preconditioner=None)`` (also the one the
@@ -107,290 +108,6 @@ class GrossSlipError(InputError):
     def __init__(self, field: str, message: str, max_force: float):
         self.max_force = max_force
         super().__init__(field, message)
-
-
-class TangentialOperator:
-    """The tangential and coupling blocks of a 3x3 operator, applied with real FFTs.
-
-    Parameters
-    ----------
-    op : ConvolutionOperator
-        An operator with components ("x", "y", "z") (free boundary or periodic).
-
-    Notes
-    -----
-    ``shear_displacement`` costs two forward and two inverse FFTs; ``from_pressure`` one
-    forward and two inverse; ``normal_from_shear`` two forward and one inverse.  Blocks that are
-    zero (the coupling of identical materials) are skipped.
-    """
-
-    def __init__(self, op: ConvolutionOperator):
-        if tuple(op.components) != ("x", "y", "z"):
-            raise InputError("operator", "the tangential solver needs an operator with components "
-                                         f"('x', 'y', 'z'), got {op.components!r}")
-        self.op = op
-        self.be = op.backend
-        self.xp = op.xp
-        self.grid = op.grid
-        self.shape = op.grid.shape
-        self.fft_shape = op.fft_shape
-        self.periodic = op.periodic
-        self.spec = {k: op.spectra.get(k) for k in ("xx", "xy", "yx", "yy", "xz", "yz", "zx", "zy")}
-        self.coupled = any(self.spec[k] is not None for k in ("xz", "yz", "zx", "zy"))
-        # Self-compliances (m/Pa) of a cell for x and y shear: the diagonal of K_tt.
-        e = self.xp.zeros(self.shape)
-        e[0, 0] = 1.0
-        ux, _ = self.shear_displacement(e, self.xp.zeros(self.shape))
-        _, uy = self.shear_displacement(self.xp.zeros(self.shape), e)
-        self.self_compliance = (float(self.be.to_numpy(ux)[0, 0]), float(self.be.to_numpy(uy)[0, 0]))
-        # Largest eigenvalue of K_tt (m/Pa): the step bound of the projected gradient.  The
-        # restriction of the (circulant) operator to the contact cannot exceed the largest
-        # eigenvalue of its 2x2 symbol.
-        sx, sy = self.spec["xx"], self.spec["yy"]
-        sxy = self.spec["xy"]
-        sx = np.abs(self.be.to_numpy(sx)) if sx is not None else 0.0
-        sy = np.abs(self.be.to_numpy(sy)) if sy is not None else 0.0
-        sxy = np.abs(self.be.to_numpy(sxy)) if sxy is not None else 0.0
-        lam = 0.5 * (sx + sy) + np.sqrt(0.25 * (sx - sy) ** 2 + sxy**2)
-        self.lipschitz = float(np.max(lam))
-
-    def _crop(self, u):
-        return u if self.periodic else u[: self.shape[0], : self.shape[1]]
-
-    def _combine(self, outs: str, ins: str, fields, spectra=None, fft_shape=None) -> list:
-        be = self.be
-        spectra = self.spec if spectra is None else spectra
-        boxed = fft_shape is not None
-        fft_shape = self.fft_shape if fft_shape is None else fft_shape
-        if be._lean() and not self.periodic:
-            return self._combine_padded(outs, ins, fields, spectra, fft_shape)
-        F = {c: be.rfft2(f, s=fft_shape) for c, f in zip(ins, fields) if f is not None}
-        res = []
-        for o in outs:
-            acc = self._product(o, F, spectra)
-            if acc is None:
-                res.append(None)
-            else:
-                u = be.irfft2(acc, s=fft_shape)
-                res.append(u if boxed else self._crop(u))
-        return res
-
-    def _product(self, o: str, F: dict, spectra: dict):
-        """sum_c F[c] x spectra[o + c] (None when every block is zero), accumulated in two reused
-        spectral buffers: a fresh multi-MB array per product costs page faults (glibc returns
-        large blocks to the OS on free) comparable to the FFTs themselves."""
-        xp = self.xp
-        acc = None
-        for c, T in F.items():
-            spec = spectra.get(o + c)
-            if spec is None:
-                continue
-            if acc is None:
-                acc = self._work(0, T.shape, T.dtype)
-                xp.multiply(T, spec, out=acc)
-            else:
-                tmp = self._work(1, T.shape, T.dtype)
-                xp.multiply(T, spec, out=tmp)
-                acc += tmp
-        return acc
-
-    def _combine_padded(self, outs, ins, fields, spectra, fft_shape) -> list:
-        """``_combine`` for zero-padded (free-boundary or box) transforms with scipy.fft: the
-        transforms of :meth:`Backend.rfft2_padded` and :meth:`Backend.irfft2_rows` (the padding
-        rows skipped, no fresh spectra: every array reused), results m1 x m2 as the inputs."""
-        be = self.be
-        m1, m2 = next(f for f in fields if f is not None).shape
-        shp = (fft_shape[0], fft_shape[1] // 2 + 1)
-        F = {}
-        for k, (c, f) in enumerate(zip(ins, fields)):
-            if f is not None:
-                F[c] = be.rfft2_padded(f, fft_shape, out=self._work(10 + k, shp, complex))
-        res = []
-        for o in outs:
-            acc = self._product(o, F, spectra)
-            if acc is None:
-                res.append(None)
-            else:
-                u = be.irfft2_rows(acc, fft_shape, m1)
-                res.append(u[:, :m2])
-        return res
-
-    def _work(self, i: int, shape, dtype):
-        """Reused spectral work array number ``i`` (its content is overwritten by the caller)."""
-        bufs = work_buffers(self)
-        key = (i, tuple(shape), np.dtype(dtype).str)
-        b = bufs.get(key)
-        if b is None:
-            if len(bufs) >= 16:  # many box shapes along a path: keep the memory bounded
-                bufs.clear()
-            b = bufs[key] = self.xp.empty(shape, dtype=dtype)
-        return b
-
-    def shear_displacement(self, qx, qy):
-        """In-plane relative displacement (u_x, u_y) in m from the shear (q_x, q_y) in Pa."""
-        ux, uy = self._combine("xy", "xy", (qx, qy))
-        z = self.xp.zeros(self.shape)
-        return (z if ux is None else ux), (z if uy is None else uy)
-
-    def _kernel(self, key):
-        """Real-space kernel (m/Pa) of the block ``key`` on the FFT grid (not kept: at 2048^2 the
-        three padded kernels would hold 384 MB; they are needed once per box shape)."""
-        spec = self.spec.get(key)
-        if spec is None:
-            return None
-        return np.asarray(self.be.to_numpy(self.be.irfft2(spec, s=self.fft_shape)), dtype=float)
-
-    def preconditioner_spectra(self, box) -> dict:
-        """Spectra (Pa/m) of M on a periodic ``box`` (m1, m2) of cells: the inverse, wavevector by
-        wavevector, of the 2x2 symbol of Strang's circulant approximation of K_tt on the box
-        (cached per box shape).
-
-        The kernels of K_tt are cut to the offsets |d| <= m/2 of the box and wrapped onto it (at
-        an even m the two offsets +-m/2 fall on one cell and get their mean, which keeps the
-        symmetries: xx, yy even, xy = yx odd in x and in y, so the symbol is real and
-        symmetric); on a periodic operator with the box = the grid that is the operator itself.
-        Modes where the symbol is not positive definite (q = 0 of a periodic cell) get m0 I, m0
-        the smallest eigenvalue of M over the others (the stiffness of the longest wavelength),
-        as the normal preconditioner of :mod:`.normal_cg` does.
-        """
-        box = (int(box[0]), int(box[1]))
-        cache = self.__dict__.setdefault("_pre_spec", {})
-        if box in cache:
-            return cache[box]
-        N1, N2 = self.fft_shape
-
-        def offsets(m, N):
-            """Kernel indices of the box cells 0..m-1 (offsets 0..m//2, then negative)."""
-            d = np.arange(m)
-            return np.where(d <= m // 2, d, d - m) % N
-
-        def wrap(k):
-            if k is None:
-                # a block the operator leaves out (xy when both nu are 0): a zero *spectrum*,
-                # the rfft2 shape of the box, like the blocks that are present
-                return np.zeros((box[0], box[1] // 2 + 1))
-            m1, m2 = box
-            i1, i2 = offsets(m1, N1), offsets(m2, N2)
-            kb = k[np.ix_(i1, i2)].copy()
-            # even box: the offsets +m/2 and -m/2 share a cell (mean of the two)
-            if m1 % 2 == 0 and m1 < N1:
-                kb[m1 // 2, :] = 0.5 * (k[m1 // 2, i2] + k[(-(m1 // 2)) % N1, i2])
-            if m2 % 2 == 0 and m2 < N2:
-                col = 0.5 * (k[np.ix_(i1, [m2 // 2])] + k[np.ix_(i1, [(-(m2 // 2)) % N2])])[:, 0]
-                if m1 % 2 == 0 and m1 < N1:
-                    col[m1 // 2] = 0.25 * (k[m1 // 2, m2 // 2] + k[-(m1 // 2) % N1, m2 // 2]
-                                           + k[m1 // 2, -(m2 // 2) % N2] + k[-(m1 // 2) % N1, -(m2 // 2) % N2])
-                kb[:, m2 // 2] = col
-            return np.real(np.fft.rfft2(kb))
-
-        kxx, kyy, kxy = wrap(self._kernel("xx")), wrap(self._kernel("yy")), wrap(self._kernel("xy"))
-        det = kxx * kyy - kxy * kxy
-        tr = kxx + kyy
-        scale = float(np.max(np.abs(tr)))
-        good = (kxx > 0) & (kyy > 0) & (det > 1e-12 * scale * scale)
-        mxx, myy, mxy = np.zeros(kxx.shape), np.zeros(kxx.shape), np.zeros(kxx.shape)
-        mxx[good] = kyy[good] / det[good]
-        myy[good] = kxx[good] / det[good]
-        mxy[good] = -kxy[good] / det[good]
-        # smallest eigenvalue of M over the good modes: 1 / (largest eigenvalue of K)
-        lam_max = 0.5 * tr[good] + np.sqrt(0.25 * (kxx[good] - kyy[good]) ** 2 + kxy[good] ** 2)
-        m0 = float(1.0 / lam_max.max()) if lam_max.size else 1.0
-        mxx[~good] = m0
-        myy[~good] = m0
-        mxy[~good] = 0.0
-        be = self.be
-        pre = {"xx": be.asarray(mxx), "yy": be.asarray(myy)}
-        if np.any(mxy != 0.0):
-            pre["xy"] = pre["yx"] = be.asarray(mxy)
-        cache[box] = pre
-        return pre
-
-    def precondition(self, rx, ry):
-        """M (r_x, r_y) for residuals given on a box (m1, m2) (see :meth:`preconditioner_spectra`):
-        two forward and two inverse FFTs of the box."""
-        box = tuple(rx.shape)
-        spec = self.preconditioner_spectra(box)
-        be = self.be
-        Rx, Ry = be.rfft2(rx, s=box), be.rfft2(ry, s=box)
-        if "xy" in spec:
-            Zx = Rx * spec["xx"] + Ry * spec["xy"]
-            Zy = Rx * spec["yx"] + Ry * spec["yy"]
-        else:
-            Zx, Zy = Rx * spec["xx"], Ry * spec["yy"]
-        return be.irfft2(Zx, s=box), be.irfft2(Zy, s=box)
-
-    def box_spectra(self, box) -> tuple:
-        """FFT shape and spectra of K_tt for tractions confined to a box of m1 x m2 cells of a
-        free-boundary grid (cached per transform shape).
-
-        The linear convolution of tractions on the box, read on the box, needs the kernel at the
-        offsets |d| <= m - 1 only, so a cyclic convolution of N >= 2m - 1 points per axis is exact
-        (the padded operator uses N = 2n for the whole grid): the same numbers as the padded
-        operator at (N1 N2) / (4 nx ny) of its FFT size.  Returns ``(N1, N2), spectra``
-        (keys "xx", "yy", "xy", "yx"; missing blocks are zero), or None for a periodic operator,
-        where the cyclic convolution of the whole cell is the operator itself.
-        """
-        if self.periodic:
-            return None
-        import scipy.fft
-
-        N = tuple(scipy.fft.next_fast_len(2 * int(m) - 1, real=True) for m in box)
-        # Cached per transform shape N, not per box: the kernel is laid out for every offset
-        # |d| <= (N - 1) // 2, which serves every box with 2m - 1 <= N (the contact's box changes
-        # by a node or two along a path; its N rarely does).
-        cache = self.__dict__.setdefault("_box_spec", {})
-        if N in cache:
-            return cache[N]
-        F1, F2 = self.fft_shape
-        spectra = {}
-        for key in ("xx", "xy", "yx", "yy"):
-            k = self._kernel(key)
-            if k is None:
-                continue
-            h1 = min((N[0] - 1) // 2, F1 // 2 - 1)
-            h2 = min((N[1] - 1) // 2, F2 // 2 - 1)
-            d1 = np.arange(-h1, h1 + 1)
-            d2 = np.arange(-h2, h2 + 1)
-            kb = np.zeros(N)
-            kb[np.ix_(d1 % N[0], d2 % N[1])] = k[np.ix_(d1 % F1, d2 % F2)]
-            spec = np.fft.rfft2(kb)
-            if np.abs(spec.imag).max() <= 1e-12 * max(np.abs(spec.real).max(), 1e-300):
-                spec = np.ascontiguousarray(spec.real)  # even or odd-odd kernels: real symbols
-            spectra[key] = self.be.asarray(spec)
-        if len(cache) >= 8:  # keep the latest transform shapes only
-            cache.pop(next(iter(cache)))
-        cache[N] = (N, spectra)
-        return cache[N]
-
-    def box_shear_displacement(self, qx, qy):
-        """(u_x, u_y) (m) on a box of a free-boundary grid from the shear (Pa) given on the same
-        box, zero outside it (see :meth:`box_spectra`): two forward and two inverse FFTs of the
-        box's transform size."""
-        box = tuple(qx.shape)
-        N, spec = self.box_spectra(box)
-        ux, uy = self._combine("xy", "xy", (qx, qy), spectra=spec, fft_shape=N)
-        z = self.xp.zeros(box)
-        return (z if ux is None else ux[: box[0], : box[1]]), (z if uy is None else uy[: box[0], : box[1]])
-
-    def from_pressure(self, p):
-        """In-plane relative displacement (m) from the pressure p (Pa): the coupling K_tz p."""
-        ux, uy = self._combine("xy", "z", (p,))
-        z = self.xp.zeros(self.shape)
-        return (z if ux is None else ux), (z if uy is None else uy)
-
-    def normal_from_shear(self, qx, qy):
-        """Normal relative displacement (m, into the bodies) from the shear: K_zx q_x + K_zy q_y."""
-        (uz,) = self._combine("z", "xy", (qx, qy))
-        return self.xp.zeros(self.shape) if uz is None else uz
-
-
-def tangential_operator(op: ConvolutionOperator) -> TangentialOperator:
-    """The (cached) :class:`TangentialOperator` view of a 3x3 operator."""
-    cache = op.__dict__.get("_tangential_view")
-    if cache is None:
-        cache = TangentialOperator(op)
-        op.__dict__["_tangential_view"] = cache
-    return cache
 
 
 def _as_pair(value, name: str):
@@ -603,7 +320,6 @@ def solve_tangential(
     s_scale = float(slip_scale) if slip_scale is not None and slip_scale > 0 else st.slip_scale()
     history: list[float] = []
     converged, message = False, ""
-    best, best_it = float("inf"), 0
     if n_c == 0:
         converged, message = True, "no compressive contact: no shear"
     elif mu == 0.0:
@@ -613,33 +329,19 @@ def solve_tangential(
         used = 0
         if method == "tangcg":
             cg = _TangCG(st, s_scale, tol, preconditioner)
-            converged, used, message = cg.run(max_iterations, stall, history)
+            out = run_iterations(cg, tol=tol, max_iterations=max_iterations, stall=min(stall, 400), history=history)
+            converged, used, message = out.converged, out.iterations, out.message
             st.cg_iterations = used
             if not converged:
                 # Fall back to the accelerated projected gradient from the best (admissible) state.
                 cg.restore_best()
                 st.reset_momentum()
                 message = f"TangCG: {message}; continued by the projected gradient"
-        if not converged:
-            best, best_it = float("inf"), used
-            for it in range(used + 1, max_iterations + 1):
-                st.iterate()
-                res = max(st.change, st.complementarity / s_scale)
-                history.append(res)
-                if res < best:
-                    best, best_it = res, it
-                elif it - best_it >= stall:
-                    message = (f"stalled: no progress in {stall} iterations (residual {res:.3e}, best {best:.3e}, "
-                               f"tolerance {tol:.1e})")
-                    break
-                if res < tol:
-                    converged = True
-                    message = (message + "; " if message else "") + f"converged in {it} iterations"
-                    break
-            else:
-                if used < max_iterations or not history:
-                    message = (f"not converged after {max_iterations} iterations (residual "
-                               f"{history[-1] if history else float('nan'):.3e}, tolerance {tol:.1e})")
+        # (when TangCG used up the iteration limit, its message stands)
+        if not converged and (used < max_iterations or not history):
+            out = run_iterations(_ProjectedGradient(st, s_scale, message), tol=tol, max_iterations=max_iterations,
+                                 stall=stall, history=history, first=used + 1)
+            converged, message = out.converged, out.message
 
     # Final fields (full grid), consistent with the returned shear.
     qx = xp.zeros(grid.size if hasattr(grid, "size") else grid.nx * grid.ny)
@@ -667,9 +369,7 @@ def solve_tangential(
     fy = float(st.q[1].sum()) * cell
     gross = n_c > 0 and not bool(st.stick.any())
     if not converged:
-        if strict:
-            raise ConvergenceError(message)
-        warnings.warn(f"tangential solver: {message}", ConvergenceWarning, stacklevel=2)
+        report_failure(message, strict=strict, prefix="tangential solver: ", stacklevel=2)
     tn = be.to_numpy
     return TangentialResult(
         grid=grid,
@@ -694,7 +394,8 @@ def solve_tangential(
         info={"capacity": capacity, "slip_scale": s_scale, "convolutions": st.n_apply,
               "preconditioner_convolutions": st.n_precondition, "preconditioner": preconditioner,
               "restarts": st.restarts, "method": method,
-              "convolution_box": (st._apply_box() or (None,))[0] if n_c else None, "tangcg_iterations": getattr(st, "cg_iterations", 0)},
+              "convolution_box": (st._apply_box() or (None,))[0] if n_c else None,
+              "tangcg_iterations": getattr(st, "cg_iterations", 0)},
     )
 
 
@@ -717,10 +418,6 @@ def _less_delta(s, delta):
     s[0] -= delta[0]
     s[1] -= delta[1]
     return s
-
-
-def _dot(a, b) -> float:
-    return float((a * b).sum())
 
 
 class _Tangential:
@@ -940,7 +637,7 @@ class _Tangential:
         self.n_apply += 1
         dq = q_new - self.q
         # Adaptive restart (O'Donoghue and Candes 2015): drop the momentum when it points uphill.
-        if _dot(self.y - q_new, dq) > 0.0:
+        if dot(self.y - q_new, dq) > 0.0:
             self.t_mom = 1.0
             self.y, self.Ky = q_new.copy(), Kq_new.copy()
             self.restarts += 1
@@ -989,7 +686,7 @@ class _Tangential:
 
 
 
-class _TangCG:
+class _TangCG(IterativeSolver):
     """Conjugate gradients over the stick AND slip nodes (the idea of Vollebregt's TangCG in
     CONTACT; our own implementation, with the force constraint handled as in Polonsky-Keer).
 
@@ -1001,14 +698,17 @@ class _TangCG:
     ``preconditioner="fft"``, P_S M P_S (M the inverse symbol of K_tt on the contact's box,
     :meth:`TangentialOperator.preconditioner_spectra`; SPD, so the block-diagonal whole is a valid
     CG preconditioner).  After each step the slip tractions are put back on the rim.  Every
-    ``INNER`` steps (``INNER_FFT`` with the FFT preconditioner, whose steps are worth more: 2
-    measured best on the 128^2 40-step hysteresis loop, where 3 gave 1.24x and 4 1.51x the
-    iterations, and 1 0.72x the iterations but more CPU), or earlier when the update is small,
-    the slip is recomputed exactly and the element division is updated: stick tractions beyond their disc start to slip,
-    slip nodes whose slip runs along their traction return to stick (the conjugate direction then
-    restarts).  Under force control the direction is made force-free (sum v = 0 on the stick
-    nodes) and delta is the mean of K q + K_tz p - s_ref over the stick nodes; the mean of K v over
-    the stick nodes is removed from the Jacobian-vector product (delta follows the step).
+    ``INNER`` steps (``INNER_FFT`` with the FFT preconditioner, whose steps are worth more; both
+    the measured best, see benchmarks/README.md), or earlier when the update is small, the slip
+    is recomputed exactly and the element division is updated (:meth:`_check`): stick tractions
+    beyond their disc start to slip, slip nodes whose slip runs along their traction return to
+    stick (the conjugate direction then restarts).  Under force control the direction is made
+    force-free (sum v = 0 on the stick nodes) and delta is the mean of K q + K_tz p - s_ref over
+    the stick nodes; the mean of K v over the stick nodes is removed from the Jacobian-vector
+    product (delta follows the step).
+
+    Run by :func:`.iteration.run_iterations`: the residual is measured at the checks only
+    (``residual()`` is None between them), and convergence needs an unchanged element division.
     """
 
     INNER = 4
@@ -1022,6 +722,8 @@ class _TangCG:
         self.fatal = False
         self.best = (float("inf"), None, None, None)
         self.stick = st._stick_mask()
+        self.res = None
+        self.changed = False
 
     def restore_best(self):
         """Back to the best checked state, or (before any check) to an admissible one: the
@@ -1056,142 +758,201 @@ class _TangCG:
             st.delta = np.array([float(s_raw[0][self.stick].mean()), float(s_raw[1][self.stick].mean())])
         return _less_delta(s_raw, st.delta)
 
-    def run(self, max_iterations: int, stall: int, history: list):
+    # -- the steps run by iteration.run_iterations
+    def start(self):
+        """Slip of the starting tractions (the projected-gradient state computed their K q)."""
         st, xp = self.st, self.xp
-        b = st.bound
-        kii = st.kii
-        q = st.q
-        s = self._exact(recompute=False)  # the projected-gradient state computed K q of this q
-        if s is None:
+        self.s = self._exact(recompute=False)
+        if self.s is None:
             self.fatal = True
-            return False, 0, "no stick node under force control (gross slip)"
-        best_res, best_it = float("inf"), 0
-        inner = 0
-        v = qv_prev = None
-        q_outer = q.copy()
-        r = n = t = None
-        restart = True
+            return "no stick node under force control (gross slip)"
+        self.steps = 0  # CG steps since the last check
+        self.v = self.qv_prev = None
+        self.q_outer = st.q.copy()
+        self.r = None  # residual; None: rebuild it and the masks of the element division
+        self.division = None
+        self.restart = True
         # Masks as 0/1 floats and where(): whole-array arithmetic on the contact nodes instead of
-        # boolean gathers and scatters (measured: the iteration's own work 2x faster at 256^2).
-        # The masks change only at a check of the element division, which also resets r.
-        bsafe = xp.where(b > 0, b, 1.0)
-        for it in range(1, max_iterations + 1):
-            stick = self.stick
-            if r is None:
-                slip = ~stick
-                any_slip = bool(slip.any())
-                n_st = int(stick.sum())
-                stickf = stick.astype(float)
-                # Directions of the slip tractions and the residual.
-                mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
-                n = q / xp.where(mag > 0, mag, 1.0)
-                t = xp.stack([-n[1], n[0]])
-                r = -s
-                if any_slip:
-                    rt = t[0] * r[0] + t[1] * r[1]
-                    r = xp.where(slip, rt * t, r)
-            # Curvature of the rim: |s.n| / g on slip nodes (s.n < 0 for a proper slip).
+        # boolean gathers and scatters.  The masks change only at a check of the element division,
+        # which also resets r.
+        self.bsafe = xp.where(st.bound > 0, st.bound, 1.0)
+        return None
+
+    def residual(self):
+        """max(relative traction change, complementarity / slip scale) at a check, else None."""
+        return self.res
+
+    def settled(self) -> bool:
+        """Whether the last check left the element division unchanged."""
+        return not self.changed
+
+    def improved(self, residual: float) -> None:
+        """Keep the best checked state for the projected-gradient fallback."""
+        st = self.st
+        self.best = (residual, st.q.copy(), st.Kq.copy(), np.array(st.delta))
+
+    def stalled_message(self, residual, best, stall, tol) -> str:
+        return f"stalled at residual {residual:.3e} (best {best:.3e})"
+
+    def converged_message(self, iteration: int) -> str:
+        return f"converged in {iteration} iterations (TangCG)"
+
+    def exhausted_message(self, max_iterations, history, tol) -> str:
+        return f"not converged after {max_iterations} iterations"
+
+    def iterate(self):
+        """One CG step; every ``inner`` steps, or when the step is small, a check (:meth:`_check`)."""
+        st, xp = self.st, self.xp
+        b, kii, q = st.bound, st.kii, st.q
+        self.res = None
+        stick = self.stick
+        s, r = self.s, self.r
+        if r is None:
+            slip = ~stick
+            any_slip = bool(slip.any())
+            n_st = int(stick.sum())
+            stickf = stick.astype(float)
+            # Directions of the slip tractions and the residual.
+            mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
+            n = q / xp.where(mag > 0, mag, 1.0)
+            t = xp.stack([-n[1], n[0]])
+            r = -s
             if any_slip:
-                sn = xp.where(slip, xp.maximum(-(s[0] * n[0] + s[1] * n[1]), 0.0) / bsafe, 0.0)
-            else:
-                sn = xp.zeros(st.n)
-            z = xp.empty_like(r)
-            z[0] = r[0] / (kii[0] + sn)
-            z[1] = r[1] / (kii[1] + sn)
-            if self.preconditioner == "fft" and n_st:
-                # stick nodes: z = P_S M P_S r (M: the inverse symbol of K_tt on the contact's box)
-                z[0, stick], z[1, stick] = st._precondition(r, stick)
-                st.n_precondition += 1
-            if any_slip:
-                zt = t[0] * z[0] + t[1] * z[1]
-                z = xp.where(slip, zt * t, z)
-            if restart or v is None:
-                v = z
-            else:
-                zq = _dot(z, qv_prev)
-                vq = _dot(v, qv_prev)
-                beta = 0.0 if (abs(zq) < 1e-300 or abs(vq) < 1e-6 * abs(zq)) else -zq / vq
-                v = z + beta * v
-            restart = False
-            if st.force_control and n_st:
-                v = v - stickf * (v.sum(axis=1) / n_st)[:, None]
-            Kv = st._apply(v)
-            st.n_apply += 1
-            if st.force_control and n_st:
-                Kv = Kv - ((Kv * stickf).sum(axis=1) / n_st)[:, None]
-            if any_slip:
-                jt = t[0] * Kv[0] + t[1] * Kv[1]
-                Jv = xp.where(slip, jt * t + sn * v, Kv)
-            else:
-                Jv = Kv.copy()
-            rv, vq = _dot(r, v), _dot(v, Jv)
-            alpha = 0.0 if abs(rv) < 1e-300 else (rv / vq if abs(vq) > 1e-6 * abs(rv) else 1.0)
-            q += alpha * v
-            if any_slip:
-                mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
-                q *= xp.where(slip, b / xp.where(mag > 0, mag, 1.0), 1.0)
-            st.Kq = st.Kq + alpha * Kv  # linear part only; made exact at the next check
-            s = s + alpha * Kv
-            r = r - alpha * Jv
-            qv_prev = Jv
-            dif = abs(alpha) * float(xp.sqrt((v * v).sum(axis=0).mean()))
-            inner += 1
-            if inner >= self.inner or dif <= 1e-3 * self.tol * float(b.mean()):
-                inner = 0
-                # Check the element division with the exact slip.
+                rt = t[0] * r[0] + t[1] * r[1]
+                r = xp.where(slip, rt * t, r)
+            self.division = (slip, any_slip, n_st, stickf, n, t)
+        else:
+            slip, any_slip, n_st, stickf, n, t = self.division
+        # Curvature of the rim: |s.n| / g on slip nodes (s.n < 0 for a proper slip).
+        if any_slip:
+            sn = xp.where(slip, xp.maximum(-(s[0] * n[0] + s[1] * n[1]), 0.0) / self.bsafe, 0.0)
+        else:
+            sn = xp.zeros(st.n)
+        z = xp.empty_like(r)
+        z[0] = r[0] / (kii[0] + sn)
+        z[1] = r[1] / (kii[1] + sn)
+        if self.preconditioner == "fft" and n_st:
+            # stick nodes: z = P_S M P_S r (M: the inverse symbol of K_tt on the contact's box)
+            z[0, stick], z[1, stick] = st._precondition(r, stick)
+            st.n_precondition += 1
+        if any_slip:
+            zt = t[0] * z[0] + t[1] * z[1]
+            z = xp.where(slip, zt * t, z)
+        v = self.v
+        if self.restart or v is None:
+            v = z
+        else:
+            qv_prev = self.qv_prev
+            zq = dot(z, qv_prev)
+            vq = dot(v, qv_prev)
+            beta = 0.0 if (abs(zq) < 1e-300 or abs(vq) < 1e-6 * abs(zq)) else -zq / vq
+            v = z + beta * v
+        self.restart = False
+        if st.force_control and n_st:
+            v = v - stickf * (v.sum(axis=1) / n_st)[:, None]
+        Kv = st._apply(v)
+        st.n_apply += 1
+        if st.force_control and n_st:
+            Kv = Kv - ((Kv * stickf).sum(axis=1) / n_st)[:, None]
+        if any_slip:
+            jt = t[0] * Kv[0] + t[1] * Kv[1]
+            Jv = xp.where(slip, jt * t + sn * v, Kv)
+        else:
+            Jv = Kv.copy()
+        rv, vq = dot(r, v), dot(v, Jv)
+        alpha = 0.0 if abs(rv) < 1e-300 else (rv / vq if abs(vq) > 1e-6 * abs(rv) else 1.0)
+        q += alpha * v
+        if any_slip:
+            mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
+            q *= xp.where(slip, b / xp.where(mag > 0, mag, 1.0), 1.0)
+        st.Kq = st.Kq + alpha * Kv  # linear part only; made exact at the next check
+        self.s = s + alpha * Kv
+        self.r = r - alpha * Jv
+        self.v = v
+        self.qv_prev = Jv
+        dif = abs(alpha) * float(xp.sqrt((v * v).sum(axis=0).mean()))
+        self.steps += 1
+        if self.steps >= self.inner or dif <= 1e-3 * self.tol * float(b.mean()):
+            return self._check()
+        return None
+
+    def _check(self):
+        """Check the element division with the exact slip and measure the residual."""
+        st, xp = self.st, self.xp
+        b, q = st.bound, st.q
+        self.steps = 0
+        mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
+        over = self.stick & (mag > b)
+        changed = bool(over.any())
+        if changed:
+            f = xp.where(over, b / xp.where(mag > 0, mag, 1.0), 1.0)
+            q *= f
+            self.stick = self.stick & ~over
+        if st.force_control:
+            # Restore the force on the stick nodes; a node pushed beyond its disc slips.
+            for _ in range(8):
+                n_st = int(self.stick.sum())
+                if n_st == 0:
+                    self.fatal = True
+                    return "no stick node left under force control (gross slip)"
+                deficit = st.target - np.array([float(q[0].sum()), float(q[1].sum())])
+                q[0, self.stick] += deficit[0] / n_st
+                q[1, self.stick] += deficit[1] / n_st
                 mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
                 over = self.stick & (mag > b)
-                changed = bool(over.any())
-                if changed:
-                    f = xp.where(over, b / xp.where(mag > 0, mag, 1.0), 1.0)
-                    q *= f
-                    self.stick = self.stick & ~over
-                if st.force_control:
-                    # Restore the force on the stick nodes; a node pushed beyond its disc slips.
-                    for _ in range(8):
-                        n_st = int(self.stick.sum())
-                        if n_st == 0:
-                            self.fatal = True
-                            return False, it, "no stick node left under force control (gross slip)"
-                        deficit = st.target - np.array([float(q[0].sum()), float(q[1].sum())])
-                        q[0, self.stick] += deficit[0] / n_st
-                        q[1, self.stick] += deficit[1] / n_st
-                        mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
-                        over = self.stick & (mag > b)
-                        if not bool(over.any()):
-                            break
-                        q *= xp.where(over, b / xp.where(mag > 0, mag, 1.0), 1.0)
-                        self.stick = self.stick & ~over
-                        changed = True
-                s = self._exact()
-                if s is None:
-                    self.fatal = True
-                    return False, it, "no stick node left under force control (gross slip)"
-                slipm = ~self.stick
-                back = slipm & ((s[0] * q[0] + s[1] * q[1]) > 0)
-                if bool(back.any()):
-                    self.stick = self.stick | back
-                    # leave them just inside the rim
-                    q[:, back] *= 1.0 - 1e-6
-                    changed = True
-                # Convergence measures (as for the projected gradient).
-                st.stick = self.stick.copy()
-                st.change = float(xp.abs(q - q_outer).sum()) / max(2.0 * float(b.sum()), 1e-300)
-                q_outer = q.copy()
-                st._complementarity()
-                res = max(st.change, st.complementarity / self.s_scale)
-                history.append(res)
-                if res < best_res:
-                    best_res, best_it = res, it
-                    self.best = (res, q.copy(), st.Kq.copy(), np.array(st.delta))
-                elif it - best_it >= min(stall, 400):
-                    return False, it, f"stalled at residual {res:.3e} (best {best_res:.3e})"
-                if res < self.tol and not changed:
-                    return True, it, f"converged in {it} iterations (TangCG)"
-                r = None  # and the masks of the (possibly new) element division
-                restart = restart or changed
-                if changed:
-                    v = None
-            else:
-                history.append(history[-1] if history else float("inf"))
-        return False, max_iterations, f"not converged after {max_iterations} iterations"
+                if not bool(over.any()):
+                    break
+                q *= xp.where(over, b / xp.where(mag > 0, mag, 1.0), 1.0)
+                self.stick = self.stick & ~over
+                changed = True
+        s = self._exact()
+        if s is None:
+            self.fatal = True
+            return "no stick node left under force control (gross slip)"
+        self.s = s
+        slipm = ~self.stick
+        back = slipm & ((s[0] * q[0] + s[1] * q[1]) > 0)
+        if bool(back.any()):
+            self.stick = self.stick | back
+            # leave them just inside the rim
+            q[:, back] *= 1.0 - 1e-6
+            changed = True
+        # Convergence measures (as for the projected gradient).
+        st.stick = self.stick.copy()
+        st.change = float(xp.abs(q - self.q_outer).sum()) / max(2.0 * float(b.sum()), 1e-300)
+        self.q_outer = q.copy()
+        st._complementarity()
+        self.res = max(st.change, st.complementarity / self.s_scale)
+        self.changed = changed
+        # The next step rebuilds the residual and the masks of the (possibly new) division.
+        self.r = None
+        self.restart = self.restart or changed
+        if changed:
+            self.v = None
+        return None
+
+
+class _ProjectedGradient(IterativeSolver):
+    """The steps of the accelerated projected gradient (:meth:`_Tangential.iterate`), alone or as
+    the fallback of TangCG, whose message ``prefix`` it continues."""
+
+    stall_hint = ""
+
+    def __init__(self, st, s_scale, prefix=""):
+        self.st, self.s_scale, self.prefix = st, s_scale, prefix
+
+    def iterate(self):
+        """One FISTA step (always possible: the problem is convex)."""
+        self.st.iterate()
+
+    def residual(self) -> float:
+        """max(relative traction change, complementarity / slip scale)."""
+        st = self.st
+        return max(st.change, st.complementarity / self.s_scale)
+
+    def converged_message(self, iteration: int) -> str:
+        return (self.prefix + "; " if self.prefix else "") + f"converged in {iteration} iterations"
+
+    def exhausted_message(self, max_iterations, history, tol) -> str:
+        return (f"not converged after {max_iterations} iterations (residual "
+                f"{history[-1] if history else float('nan'):.3e}, tolerance {tol:.1e})")
