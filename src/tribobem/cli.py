@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import sys
+import threading
 import tomllib
 import warnings
 from contextlib import contextmanager
@@ -119,8 +121,27 @@ def _interrupts(outdir: Path, what: str):
 
     summary = Path(outdir) / "summary.json"
     before = file_state(summary)
+    # A Ctrl-C that lands in a weakref callback or a __del__ is printed and dropped by Python
+    # ("Exception ignored in ..."), and the run would go on as if never interrupted: record every
+    # SIGINT, keep such a drop quiet, and treat the run as interrupted when it returns.
+    seen: list = []
+
+    def on_sigint(signum, frame):
+        seen.append(signum)
+        raise KeyboardInterrupt
+
+    def unraisable(info, previous=sys.unraisablehook):
+        if not isinstance(info.exc_value, KeyboardInterrupt):
+            previous(info)
+
+    restore = None
+    if threading.current_thread() is threading.main_thread():
+        restore = (signal.signal(signal.SIGINT, on_sigint), sys.unraisablehook)
+        sys.unraisablehook = unraisable
     try:
         yield
+        if seen:
+            raise KeyboardInterrupt
     except KeyboardInterrupt:
         after = file_state(summary)
         if after is not None and after != before:
@@ -131,6 +152,10 @@ def _interrupts(outdir: Path, what: str):
             state = f"outputs in {outdir} were not written"
         _stderr().print(f"[bold yellow]interrupted:[/bold yellow] {escape(what)} stopped by Ctrl-C; {escape(state)}")
         raise typer.Exit(EXIT_INTERRUPTED) from None
+    finally:
+        if restore is not None:
+            signal.signal(signal.SIGINT, restore[0])
+            sys.unraisablehook = restore[1]
 
 
 def _warn_nonconverged(summary: dict, quiet: bool) -> None:
