@@ -11,18 +11,15 @@ FFT engines on the CPU (``Backend.fft``; env ``TRIBOBEM_FFT`` = ``auto`` (defaul
 * ``mkl_fft`` -- Intel MKL (optional);
 * ``scipy`` -- ``scipy.fft`` (pocketfft), always available: the fallback.
 
-``auto`` takes the first installed of pyfftw, mkl_fft, scipy: the order measured by
-``benchmarks/fft_backends.py`` (one convolution rfft2 x kernel irfft2, 1 thread, CPU time
-relative to scipy.fft on a loaded 2-core machine: pyFFTW 0.54 / 0.62 / 0.69 at 512^2 /
-1024^2 / 2048^2 and 0.72 / 0.64 on zero-padded 512^2 / 1024^2; mkl_fft 1.12 / 0.85 / 0.72
-and 0.74 / 0.70).  FFTW plans cost about 0.6 s (1024^2) and 0.9 s (2048^2) once per
-shape and process.  All engines agree to 1e-15 relative.
+``auto`` takes the first installed of pyfftw, mkl_fft, scipy: the order of their speed on one
+convolution, measured by ``benchmarks/fft_backends.py`` (numbers in benchmarks/README.md).  All
+engines agree to 1e-15 relative.
 
 Zero-padded transforms (free boundary): :meth:`Backend.rfft2_padded` and
 :meth:`Backend.irfft2_rows` skip the padding rows in the real passes and write into reused
 arrays (scipy.fft only, through pocketfft's ``out`` argument; the other engines do the full
-transforms).  Threads: transforms of at most ``SMALL_FFT`` points run on one thread (measured:
-two threads cost more CPU and, between the numpy work of a solver, more wall time there).
+transforms).  Threads: transforms of at most ``SMALL_FFT`` points run on one thread (two threads
+cost more CPU there and, between the NumPy work of a solver, more wall time).
 """
 
 from __future__ import annotations
@@ -97,12 +94,9 @@ def default_workers() -> int:
     return os.cpu_count() or 1
 
 
-#: Transforms of at most this many points run on ``small_fft_threads`` threads (default 1).
-#: Measured on this 2-core machine (scipy.fft, rfft2 + irfft2 in a loop): 2 threads give 1.0x /
-#: 1.3x / 1.2x the speed at 324^2 / 384^2 / 512^2 for 1.3x / 1.2x / 1.3x the CPU time; the 256^2
-#: hysteresis loop (transforms of 324^2-512^2 between numpy work) took 144 s wall / 148 s CPU with
-#: 2 threads against 113 s with 1 (one run each; the machine's speed drifts by up to ~25 %).  At
-#: 1024^2 / 2048^2: 1.4x / 1.5x faster for 1.07x / 1.10x the CPU: there the threads pay.
+#: Transforms of at most this many points run on ``small_fft_threads`` threads (default 1): below
+#: this size a second thread costs more CPU than it saves wall time between a solver's NumPy work;
+#: from 1024^2 on the threads pay (measurements in benchmarks/README.md).
 SMALL_FFT = 512 * 512
 
 

@@ -52,7 +52,8 @@ from ..elasticity.operators import make_operator, free_boundary_operator
 from ..solvers.coupling import solve_coupled
 from ..solvers.normal import solve_normal
 from ..solvers.slip_paths import normal_path
-from ..solvers.tangential import solve_tangential, tangential_operator
+from ..elasticity.tangential import tangential_operator
+from ..solvers.tangential import solve_tangential
 
 __all__ = ["CASES", "cattaneo_problem"]
 
