@@ -110,7 +110,8 @@ def main(argv=None) -> dict:
               f"(target <= {SWEEP_TARGET:g} s)\n")
         print(f"wall {sw['wall']:.1f} s, CPU {sw['cpu']:.1f} s (build {sw['timings']['build']:.1f} s, solve "
               f"{sw['timings']['solve']:.1f} s); all converged: {sw['converged']}\n")
-        print("| RH | F_cap (uN) | F_ss (uN) | F_ws (uN) | meniscus (um^2) | islands | outer it. | last normal solve it. | film Newton |")
+        print("| RH | F_cap (uN) | F_ss (uN) | F_ws (uN) | meniscus (um^2) | islands | outer it. "
+              "| last normal solve it. | film Newton |")
         print("|---|---|---|---|---|---|---|---|---|")
         for s in sw["steps"]:
             inner = s.get("inner_iterations") if s.get("inner_iterations") is not None else s.get("iterations")

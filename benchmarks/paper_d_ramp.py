@@ -99,7 +99,8 @@ def main(argv=None) -> dict:
         "coupling_passes_per_state": float(np.mean(passes)) if passes else float("nan"),
         "tangential_iterations_per_state": counts["tangential_iterations"] / n,
         "normal_iterations_per_state": counts["normal_iterations"] / n,
-        "onset_ratio": ramp.onset_ratio, "keep_freed_memory": args.keep_freed_memory, "tolerances": {"tangential": TANGENTIAL_TOLERANCE, "coupling": COUPLING_TOLERANCE},
+        "onset_ratio": ramp.onset_ratio, "keep_freed_memory": args.keep_freed_memory,
+        "tolerances": {"tangential": TANGENTIAL_TOLERANCE, "coupling": COUPLING_TOLERANCE},
     }
     if args.json:
         print(json.dumps(out, indent=2))

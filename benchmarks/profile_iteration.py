@@ -400,15 +400,18 @@ def main(argv=None) -> int:
         print(f"Line profile (one traced solve: {r['t_traced']:.3f} s wall, {r['traced_total']:.3f} s charged "
               "to lines; tracer overhead excluded from the charges):\n")
         print(markdown_table(["category", "ms / iteration", "% of solve"],
-                             [[k, 1e3 * v / r["iterations"], 100 * v / tot] for k, v in sorted(g.items(), key=lambda kv: -kv[1])]))
+                             [[k, 1e3 * v / r["iterations"], 100 * v / tot]
+                              for k, v in sorted(g.items(), key=lambda kv: -kv[1])]))
         print()
         print(r["table"])
         print()
         m = r["mem"]
         grid_mib = n * n * 8 / 2**20
-        line = f"Memory: NumPy peak during the solve (tracemalloc) {r['traced_peak'] / 2**20:.1f} MiB = {r['traced_peak'] / 2**20 / grid_mib:.1f} grid arrays"
+        line = (f"Memory: NumPy peak during the solve (tracemalloc) {r['traced_peak'] / 2**20:.1f} MiB = "
+                f"{r['traced_peak'] / 2**20 / grid_mib:.1f} grid arrays")
         if m:
-            line += f"; peak RSS increase (fresh process, incl. kernel) {m['rss_delta_mib']:.1f} MiB = {m['rss_delta_grids']:.1f} grid arrays"
+            line += (f"; peak RSS increase (fresh process, incl. kernel) {m['rss_delta_mib']:.1f} MiB = "
+                     f"{m['rss_delta_grids']:.1f} grid arrays")
         print(line + "\n")
         print("Lines at which the NumPy allocations peak (the memory held while the line runs):\n")
         print(r["mem_table"] + "\n")

@@ -29,7 +29,6 @@ the three L_ac (Fig. 18).  ``quick=True`` shrinks everything for a test (module 
 
 from __future__ import annotations
 
-import copy
 import math
 from pathlib import Path
 

@@ -384,7 +384,8 @@ def rough_ball_study(
         "radius": float(radius), "size": float(size), "n": int(n), "dx": grid.dx, "z0": float(z0),
         "E": float(E), "nu": float(nu), "effective_modulus": E_star, "force": float(force),
         "correlation_length": float(correlation_length), "seed": int(seed),
-        "target_slope": float(target_slope), "surface_n": surface_n, "domain": domain, "n_steps": int(n_steps), "refine": int(refine), "tol": float(tol),
+        "target_slope": float(target_slope), "surface_n": surface_n, "domain": domain, "n_steps": int(n_steps),
+        "refine": int(refine), "tol": float(tol),
         "operator": "free boundary (zero-padded DC-FFT)",
         "area_ratio_definition": "area with p < 0 (contact nodes with -sigma0 < p < 0 plus the cohesive zone "
                                  "0 < g < h0) divided by the contact area (g = 0), at F0",

@@ -26,7 +26,8 @@ NORMAL = {
 PULLOFF = {
     "kind": "pulloff",
     "grid": {"n": 24, "size": "0.4 um"},
-    "body1": {"E": "5 GPa", "nu": 0.0, "roughness": {"kind": "gaussian", "rms": "0.2 nm", "correlation_length": "40 nm", "seed": 1}},
+    "body1": {"E": "5 GPa", "nu": 0.0,
+              "roughness": {"kind": "gaussian", "rms": "0.2 nm", "correlation_length": "40 nm", "seed": 1}},
     "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "1 um"}},
     "adhesion": {"work_of_adhesion": "50 mJ/m^2", "z0": "0.5 nm"},
     "load": {"preload": "0.3 uN", "steps": 8, "refine": 2},

@@ -133,7 +133,8 @@ def test_direction_is_in_degrees(raw, deg):
         ({"friction__coefficient": "inf"}, "friction.coefficient", ["finite"]),
         ({"friction__tangential_forces": ["1 uN", "2 nm"]}, "friction.tangential_forces", ["item 1", "expected a force (N)"]),
         ({"friction__tangential_forces": {"start": 0, "stop": 1e-6}}, "friction.tangential_forces", ["start, stop, num"]),
-        ({"friction__tangential_displacements": ["1 uN"]}, "friction.tangential_displacements", ["item 0", "expected a length (m)"]),
+        ({"friction__tangential_displacements": ["1 uN"]}, "friction.tangential_displacements",
+         ["item 0", "expected a length (m)"]),
         ({"friction__direction": "inf"}, "friction.direction", ["finite"]),
         ({"friction__direction": "nan"}, "friction.direction", ["finite"]),
         ({"friction__direction": "3 nm"}, "friction.direction", ["angle in degrees"]),
@@ -172,7 +173,8 @@ def test_path_defaults():
     sc = parse_scenario(scenario(HYST, friction__path={"control": "force"}))
     p = sc.friction.path
     assert (p.amplitude, p.cycles, p.steps) == (0.999, 1, 40)
-    assert parse_scenario(scenario(HYST, friction__path={"stroke": "1 um", "control": "displacement"})).friction.path.stroke == 1e-6
+    assert parse_scenario(scenario(HYST, friction__path={"stroke": "1 um", "control": "displacement"})
+                          ).friction.path.stroke == 1e-6
 
 
 # ----------------------------------------------------------------------------- kind = partial_slip
@@ -218,7 +220,8 @@ def test_partial_slip_load_variants():
         ({"load": {"forces": ["1 uN", "2 uN"]}, "friction__slip": "incremental",
           "friction__tangential_displacements": {"start": 0, "stop": 1e-9, "num": 5}},
          "friction.tangential_displacements", ["pairs with tangential_forces only"]),
-        ({"friction__path": {"control": "force"}}, "friction.path", ["kind = 'partial_slip' does not use it", "used by kind 'hysteresis'"]),
+        ({"friction__path": {"control": "force"}}, "friction.path",
+         ["kind = 'partial_slip' does not use it", "used by kind 'hysteresis'"]),
         ({"load__force": "-1 uN"}, "load.force", ["> 0 N without adhesion"]),
         ({"load": {"forces": ["1 uN", "-1 uN"]}, "friction__slip": "incremental"}, "load.forces",
          ["> 0 N without adhesion"]),
@@ -254,7 +257,8 @@ def test_hysteresis_variants():
         ({"load": {"forces": ["1 uN", "2 uN"]}}, "load.forces", ["one normal force, load.force"]),
         ({"load": {"approach": "1 nm"}}, "load.approach", ["one normal force, load.force"]),
         ({"load__force": "-1 uN"}, "load.force", ["> 0 N without adhesion"]),
-        ({"friction__tangential_forces": [0, 1e-6]}, "friction.tangential_forces", ["kind = 'hysteresis' does not use it", "friction.path"]),
+        ({"friction__tangential_forces": [0, 1e-6]}, "friction.tangential_forces",
+         ["kind = 'hysteresis' does not use it", "friction.path"]),
         ({"friction__tangential_displacements": [0, 1e-9]}, "friction.tangential_displacements", ["does not use it"]),
         ({"friction__slip": "total"}, "friction.slip", ["'incremental'", "history"]),
         ({"friction__coefficient": 0}, "friction.coefficient", ["> 0 for a force-controlled path", "mu F0+"]),

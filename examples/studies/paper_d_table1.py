@@ -241,7 +241,8 @@ def main(argv=None) -> int:
                   f"{ref[0]:10.3f}  {c.repulsive_force * 1e6:7.3f}  {ref[1]:10.3f}  {c.zero_stick_ratio:8.4f}  "
                   f"{c.onset_ratio:.4f}  {ref[3]:.4f}  {c.force_ratio_paper_d:9.4f}  {c.presliding_displacement * 1e9:10.4f}")
         for r in resolution_summary(cases):
-            print(f"mu_T = {r['tabor']:g}: onset ratio " + ", ".join(f"{o:.4f} (n = {n})" for o, n in zip(r["onset_ratio"], r["n"]))
+            print(f"mu_T = {r['tabor']:g}: onset ratio "
+                  + ", ".join(f"{o:.4f} (n = {n})" for o, n in zip(r["onset_ratio"], r["n"]))
                   + f"; two finest differ by {r['finest_change']:.4f} (<= 0.005: {r['converged']})")
         print(f"wall {wall:.0f} s, CPU {cpu:.0f} s; wrote {csv} and {png}" + (" (and copied to docs/)" if args.publish else ""))
     return 0

@@ -76,7 +76,8 @@ def stick_zone_tracks(quiet: bool = False) -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--out", type=Path, default=ROOT / "results" / "rough_ball_slip", help="sweep results folder (default results/rough_ball_slip)")
+    ap.add_argument("--out", type=Path, default=ROOT / "results" / "rough_ball_slip",
+                    help="sweep results folder (default results/rough_ball_slip)")
     ap.add_argument("--sweep", type=Path, default=SWEEP, help="sweep file (default: the study's)")
     ap.add_argument("--no-run", action="store_true", help="only gather the points already computed")
     ap.add_argument("--max-points", type=int, default=None, help="run at most this many missing points")

@@ -210,7 +210,8 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
     if summary.get("friction_coefficient") is not None:
         mu = summary["friction_coefficient"]
         if summary.get("static_friction_force") is not None:
-            console.print(f"gross-slip onset (static friction): [bold]{format_quantity(summary['static_friction_force'], 'force', 4)}"
+            console.print("gross-slip onset (static friction): "
+                          f"[bold]{format_quantity(summary['static_friction_force'], 'force', 4)}"
                           f"[/bold] = {summary['static_friction_ratio']:.4f} \u03bc F0+ (\u03bc = {mu:g}); pre-sliding "
                           f"displacement {format_quantity(summary.get('presliding_displacement'), 'length', 4)}")
         elif summary.get("gross_slip") is False:

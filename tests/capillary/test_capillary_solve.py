@@ -1,7 +1,6 @@
 """The capillary stress law, the self-consistent capillary solve and the sphere-flat reference."""
 
 import math
-import warnings
 
 import numpy as np
 import pytest

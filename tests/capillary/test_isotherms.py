@@ -92,7 +92,8 @@ def test_fhh_closed_form():
     iso = FHHIsotherm(a=2.0, monolayer=0.25e-9, exponent=3.0)
     e = np.array([0.2e-9, 0.5e-9, 2e-9])
     np.testing.assert_allclose(iso.disjoining_pressure(e, w), w.pressure_scale * 2.0 * (0.25e-9 / e) ** 3, rtol=1e-13)
-    np.testing.assert_allclose(iso.disjoining_pressure_derivative(e, w), -3 * w.pressure_scale * 2.0 * (0.25e-9 / e) ** 3 / e, rtol=1e-13)
+    np.testing.assert_allclose(iso.disjoining_pressure_derivative(e, w),
+                               -3 * w.pressure_scale * 2.0 * (0.25e-9 / e) ** 3 / e, rtol=1e-13)
     assert iso.thickness(math.exp(-2.0)) == pytest.approx(0.25e-9, rel=1e-13)  # one monolayer at -ln RH = a
     assert iso.thickness(0.0) == 0.0 and iso.thickness(1.0) == math.inf
     with pytest.raises(InputError):

@@ -74,7 +74,8 @@ def test_box_solve_equals_padded_cattaneo(monkeypatch, load):
         assert st.converged, st.message
         res[use_box] = st
     full, boxed = res[False], res[True]
-    assert full.info["convolution_box"] is None and boxed.info["convolution_box"][0] <= 64 and boxed.info["convolution_box"][1] <= 64
+    assert (full.info["convolution_box"] is None and boxed.info["convolution_box"][0] <= 64
+            and boxed.info["convolution_box"][1] <= 64)
     assert np.array_equal(full.stick, boxed.stick)
     qscale = 0.3 * nr.pressure.max()
     assert np.abs(full.shear - boxed.shear).max() < 50 * TOL * qscale

@@ -213,7 +213,7 @@ class Backend:
         """
         if not self._lean():
             return self.irfft2(A, s=s)[:rows]
-        N1, N2 = int(s[0]), int(s[1])
+        N2 = int(s[1])
         w = self.threads(s)
         _pocketfft.c2c(A, (0,), False, 2, A, w)
         u = out if out is not None else np.empty((rows, N2))

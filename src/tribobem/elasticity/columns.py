@@ -90,7 +90,6 @@ def convolve_buffers(op):
     if (_pocketfft is None or be.name != "numpy" or be.fft != "scipy" or len(op.components) != 1
             or tuple(op.fft_shape) != tuple(op.grid.shape) or op.spectra.get("zz") is None):
         return None, None
-    import numpy as np
 
     nx, ny = op.grid.shape
     return np.empty((nx, ny)), np.empty((nx, ny // 2 + 1), dtype=complex)

@@ -203,7 +203,8 @@ def _free_boundary_cached(grid: Grid, pair: ContactPair, components: tuple, back
     return spectra
 
 
-def free_boundary_operator(grid: Grid, pair: ContactPair, components=("z",), backend: str | Backend = "numpy") -> ConvolutionOperator:
+def free_boundary_operator(grid: Grid, pair: ContactPair, components=("z",),
+                           backend: str | Backend = "numpy") -> ConvolutionOperator:
     """DC-FFT operator of a non-periodic (free-boundary) domain, zero-padded to 2nx x 2ny.
 
     Parameters
@@ -400,7 +401,8 @@ def periodic_operator(grid: Grid, pair: ContactPair, components=("z",), kernel: 
     return ConvolutionOperator(grid, pair, components, spectra, grid.shape, be, f"periodic ({kernel})")
 
 
-def make_operator(grid: Grid, pair: ContactPair, components=("z",), backend: str | Backend = "numpy", **kw) -> ConvolutionOperator:
+def make_operator(grid: Grid, pair: ContactPair, components=("z",), backend: str | Backend = "numpy",
+                  **kw) -> ConvolutionOperator:
     """The periodic or free-boundary operator, as ``grid.periodic`` says."""
     if grid.periodic:
         return periodic_operator(grid, pair, components, backend=backend, **kw)

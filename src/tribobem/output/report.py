@@ -136,7 +136,8 @@ border-radius:4px;margin:.8em 0}.warnings b{color:#8a5300}.warnings ul{margin:.3
 figure{display:inline-block;margin:.5em;vertical-align:top;max-width:520px}figure img{max-width:100%}
 figure.wide{display:block;max-width:100%}figure.mid{max-width:700px}h3{font-size:1.02em;margin:1.2em 0 .4em}
 figcaption{font-size:.85em;color:#555}pre{background:#f7f7f7;padding:1em;overflow:auto;font-size:.8em;max-height:30em}
-.muted{color:#777;font-size:.85em}.scroll{overflow-x:auto;max-width:100%}.steps{font-size:.8em}.steps td{white-space:nowrap;padding:2px 5px}.steps th{padding:2px 5px}
+.muted{color:#777;font-size:.85em}.scroll{overflow-x:auto;max-width:100%}.steps{font-size:.8em}\
+.steps td{white-space:nowrap;padding:2px 5px}.steps th{padding:2px 5px}
 """
 
 
@@ -313,7 +314,8 @@ def _capillary_section(s: dict, hum: dict, figures: dict) -> list:
                   f"{hum.get('molar_volume', float('nan')) * 1e6:.4g} cm³/mol"),
         ("films (isotherms)", f"body 1: {hum.get('isotherm1')}, body 2: {hum.get('isotherm2')}; levelling "
                               f"{hum.get('levelling')} ({hum.get('film_system')} system), on the undeformed topographies"),
-        ("Hamaker constants", f"body 1 {hum.get('hamaker1', float('nan')):.3g} J, body 2 {hum.get('hamaker2', float('nan')):.3g} J, "
+        ("Hamaker constants", f"body 1 {hum.get('hamaker1', float('nan')):.3g} J, "
+                              f"body 2 {hum.get('hamaker2', float('nan')):.3g} J, "
                               f"water {hum.get('water_hamaker', float('nan')):.3g} J; van der Waals "
                               f"{'on' if hum.get('van_der_waals') else 'off'}, cut-off "
                               f"{format_quantity(hum.get('cutoff'), 'length', 3)}"),

@@ -23,7 +23,8 @@ from typing import Callable
 from ..errors import InputError
 from .kind import RunKind, RunOutput
 
-__all__ = ["KINDS", "RUNNERS", "RunKind", "RunOutput", "Runner", "get_runner", "get_kind", "available_kinds", "NotImplementedKindError"]
+__all__ = ["KINDS", "RUNNERS", "RunKind", "RunOutput", "Runner", "get_runner", "get_kind", "available_kinds",
+           "NotImplementedKindError"]
 
 #: ``runner(pb: Problem, bar) -> RunOutput``
 Runner = Callable[..., RunOutput]

@@ -110,7 +110,8 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
     # refine around the most tensile converged state by finer continuation from its predecessor
     ok = [i for i, s in enumerate(states) if s.converged]
     if ok and refine > 0:
-        order = sorted(range(len(states)), key=lambda i: -states[i].normal.approach if math.isfinite(states[i].normal.approach) else 0)
+        order = sorted(range(len(states)),
+                       key=lambda i: -states[i].normal.approach if math.isfinite(states[i].normal.approach) else 0)
         i = min(ok, key=lambda k: states[k].total_force)
         pos = order.index(i)
         if 0 < pos < len(order) - 1:

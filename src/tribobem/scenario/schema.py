@@ -138,7 +138,8 @@ def Int(*, ge=None, le=None):
             raise PydanticCustomError("int", "{message}", {"message": f"must be an integer, got {raw!r}"})
         v = int(raw)
         if (ge is not None and v < ge) or (le is not None and v > le):
-            raise PydanticCustomError("range", "{message}", {"message": f"must be an integer {_range_text(ge=ge, le=le)}, got {raw!r}"})
+            raise PydanticCustomError("range", "{message}",
+                                      {"message": f"must be an integer {_range_text(ge=ge, le=le)}, got {raw!r}"})
         return v
 
     return Annotated[int, BeforeValidator(validate)]
@@ -175,7 +176,8 @@ def QuantityList(dimension: str, *, gt=None, ge=None, lt=None, le=None, min_leng
         if isinstance(raw, (str, int, float)) and not isinstance(raw, bool):
             raw = [raw]
         if not isinstance(raw, (list, tuple)):
-            raise PydanticCustomError("scenario", "{message}", {"message": f"must be a list (or {{start, stop, num}}), got {raw!r}"})
+            raise PydanticCustomError("scenario", "{message}",
+                                      {"message": f"must be a list (or {{start, stop, num}}), got {raw!r}"})
         if len(raw) < min_length:
             raise PydanticCustomError("scenario", "{message}", {"message": f"needs at least {min_length} value(s)"})
         return [one(v, i) for i, v in enumerate(raw)]

@@ -265,7 +265,7 @@ class _NormCG(IterativeSolver):
     def _balance(self) -> bool:
         """Force control: scale p - floor on the contact to the target force.  False when
         the contact cannot carry it (beyond pull-off)."""
-        xp, idx, floor = self.xp, self.idx, self.floor
+        idx, floor = self.idx, self.floor
         if len(idx) == 0:
             return False
         p_c = self.p[idx]

@@ -30,7 +30,7 @@ from ..elasticity.operators import ConvolutionOperator, free_boundary_operator
 from ..grid import Grid
 from ..interactions.base import NoInteraction
 from ..interactions.dugdale import DugdaleAdhesion
-from ..results import CoupledResult, NormalResult, TangentialResult
+from ..results import CoupledResult, NormalResult
 from .coupling import solve_coupled
 
 __all__ = ["Window", "auto_window", "windowable", "solve_coupled_windowed"]
