@@ -452,3 +452,17 @@ def test_values_that_would_be_ignored_are_refused():
         parse_scenario(scenario(kind="pulloff", load={"preload": "1 uN"},
                                 adhesion={"work_of_adhesion": 0.05, "z0": 3e-10}, body1__film={"isotherm": "SiO2"}))
     assert exc.value.field == "body1.film" and "humid pull-off only" in str(exc.value)
+
+
+def test_an_expected_value_the_kind_does_not_produce_is_refused():
+    """expected keys come from what each kind declares it produces; one the kind never writes
+    could never be compared, so it is an error naming it, not a silent 'not computed'."""
+    exp = {"static_friction_ratio": 0.9, "reference": "Paper D", "tolerance": "1 %"}
+    with pytest.raises(ScenarioError) as exc:
+        parse_scenario(scenario(expected=exp))
+    assert exc.value.field == "expected.static_friction_ratio"
+    assert "kind = 'normal' does not produce it" in str(exc.value) and "'partial_slip'" in str(exc.value)
+    ok = parse_scenario(scenario(kind="partial_slip", friction={"coefficient": 0.2}, expected=exp))
+    assert ok.expected.values == {"static_friction_ratio": 0.9}
+    # a step key every kind writes
+    parse_scenario(scenario(expected={"contact_area": "1 um^2", "reference": "Hertz", "tolerance": "3 %"}))

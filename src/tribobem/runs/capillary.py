@@ -34,7 +34,7 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from .common import solve_kw
-from .kind import ALL, RunKind, RunOutput, fail, require_humidity
+from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_humidity
 from ..interactions.films import film_thickness
 from ..interactions.menisci import contribution_coefficient
 from ..solvers.capillary import solve_capillary
@@ -213,6 +213,7 @@ KIND = RunKind(
     name="capillary", run=run, check=check,
     summary="capillary adhesion from adsorbed water films and menisci at one load, RH by RH",
     figures=("capillary", "maps"), report_sections=("capillary",),
+    results={"peak_capillary_force": "force", "peak_capillary_rh": "dimensionless", **CAPILLARY_STEPS},
     uses={"load": ("force", "approach"), "humidity": ALL, "body1": ("film", "hamaker"),
           "body2": ("film", "hamaker")},
     hints={"friction": "kind = 'capillary' is frictionless; leave [friction] out",

@@ -23,7 +23,7 @@ from ..analysis.loops import STIFFNESS_POINTS, fit_eq3
 from ..errors import InputError
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
 from .common import solve_kw
-from .kind import RunKind, RunOutput, fail, positive_normal_load, require_friction
+from .kind import TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load, require_friction
 from ..analytic.mindlin import mindlin_reloading_stiffness, mindlin_virgin_stiffness, mindlin_compliance_k
 from .partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
 
@@ -243,6 +243,8 @@ KIND = RunKind(
     name="hysteresis", run=run, check=check,
     summary="friction hysteresis: tangential force or displacement cycles at one normal force",
     figures=("hysteresis", "friction", "maps"), report_sections=("hysteresis",),
+    results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
+             "presliding_displacement": "length", **TANGENTIAL_STEPS},
     uses={"load": ("force",), "friction": ("coefficient", "direction", "slip", "path")},
     hints={"load.forces": _ONE_FORCE, "load.approach": _ONE_FORCE, "load.approaches": _ONE_FORCE,
            "friction.tangential_forces": _PATH, "friction.tangential_displacements": _PATH},

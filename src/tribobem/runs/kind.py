@@ -21,7 +21,8 @@ from typing import Any, Callable, Mapping, Optional, Union
 
 from ..errors import InputError
 
-__all__ = ["ALL", "SECTIONS", "BODY_KEYS", "COMMON", "RunKind", "RunOutput", "fail"]
+__all__ = ["ALL", "SECTIONS", "BODY_KEYS", "COMMON", "COMMON_RESULTS", "TANGENTIAL_STEPS", "CAPILLARY_STEPS",
+           "RunKind", "RunOutput", "fail"]
 
 #: A section whose every key the kind reads.
 ALL = "*"
@@ -100,6 +101,21 @@ class RunOutput:
             raise ValueError(f"a runner returned {len(self.tangential)} tangential results for {n} results "
                              "(they must be aligned one-to-one)")
 
+#: summary.json step keys of every kind, with their dimension (what ``expected`` may state).
+COMMON_RESULTS = {
+    "normal_force": "force", "approach": "length", "contact_area": "area", "adhesive_area": "area",
+    "repulsive_force": "force", "adhesive_force": "force", "max_pressure": "pressure", "mean_gap": "length",
+}
+#: Step keys of the tangential kinds.
+TANGENTIAL_STEPS = {
+    "tangential_force_x": "force", "tangential_force_y": "force", "displacement_x": "length",
+    "displacement_y": "length", "stick_area": "area", "slip_area": "area", "stick_ratio": "dimensionless",
+}
+#: Step keys of the RH steps (kind capillary, humid pull-off).
+CAPILLARY_STEPS = {
+    "capillary_force": "force", "solid_solid_force": "force", "water_solid_force": "force", "wetted_area": "area",
+}
+
 
 def fail(key: str, message: str):
     """Raise the :class:`~tribobem.errors.InputError` of a kind's rule on scenario key ``key``
@@ -136,6 +152,9 @@ class RunKind:
         The figure sets of its result folder (:data:`tribobem.output.figures.FIGURE_SETS`).
     report_sections : tuple of str
         Its own sections of report.html (:data:`tribobem.output.report.REPORT_SECTIONS`).
+    results : mapping
+        The summary.json keys it produces beyond :data:`COMMON_RESULTS` (run-level values and
+        its own step keys) -> dimension: what a scenario's ``expected`` table may state.
     """
 
     name: str
@@ -146,6 +165,11 @@ class RunKind:
     summary: str = ""
     figures: tuple = ("maps",)
     report_sections: tuple = ()
+    results: Mapping[str, str] = field(default_factory=dict)
+
+    def result_keys(self) -> dict[str, str]:
+        """Every summary.json key (run level or step) this kind produces -> its dimension."""
+        return {**COMMON_RESULTS, **dict(self.results)}
 
     def reads(self) -> dict[str, Union[str, frozenset]]:
         """Section -> the keys this kind reads (:data:`ALL`: every key); absent: not read."""

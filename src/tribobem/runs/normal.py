@@ -87,5 +87,6 @@ KIND = RunKind(
     name="normal", run=run, check=check,
     summary="normal contact at one load or along a list of loads (with Dugdale adhesion if given)",
     figures=("load_curve", "maps"),
+    results={"pull_off_force": "force", "pull_off_approach": "length", "hysteresis_energy": "energy"},
     uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",)},
 )

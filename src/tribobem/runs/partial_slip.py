@@ -23,7 +23,7 @@ import math
 from ..errors import InputError
 from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
 from .common import solve_kw
-from .kind import RunKind, RunOutput, fail, positive_normal_load, require_friction
+from .kind import TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load, require_friction
 
 __all__ = ["run", "check", "KIND"]
 
@@ -159,6 +159,9 @@ KIND = RunKind(
     name="partial_slip", run=run, check=check,
     summary="partial slip along a tangential ramp or a normal-load path, to the gross-slip onset",
     figures=("load_curve", "friction", "maps"), report_sections=("friction",),
+    results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
+             "presliding_displacement": "length", "max_tangential_force": "force",
+             "zero_force_stick_ratio": "dimensionless", **TANGENTIAL_STEPS},
     uses={"load": ("force", "forces"),
           "friction": ("coefficient", "tangential_forces", "tangential_displacements", "direction", "slip")},
     hints={"friction.path": "a partial_slip ramp is friction.tangential_forces or "

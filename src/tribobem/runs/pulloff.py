@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from .common import curve_from_rows, offset_progress, solve_kw
-from .kind import ALL, RunKind, RunOutput, fail, require_humidity
+from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_humidity
 from ..output.checks import cohesive_cells
 from ..solvers.paths import approach_curve, pull_off
 from .humid_pulloff import run as humid_run
@@ -117,6 +117,8 @@ KIND = RunKind(
     name="pulloff", run=run, check=check,
     summary="the pull-off force: unloading from a preload (Dugdale adhesion, or capillary with [humidity])",
     figures=("load_curve", "capillary", "maps"), report_sections=("capillary",),
+    results={"pull_off_force": "force", "pull_off_approach": "length", "preload": "force",
+             "hysteresis_energy": "energy", **CAPILLARY_STEPS},
     uses={"load": _DRY_LOAD, "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker")},
     hints={"friction": "a pull-off is frictionless; leave [friction] out",
            **{f"load.{k}": "a pull-off unloads from load.preload (a compressive force; left out: from the "

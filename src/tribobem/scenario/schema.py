@@ -696,20 +696,10 @@ class OutputSpec(Section):
 
 
 # ----------------------------------------------------------------------------- expected (metadata)
-#: Summary keys an ``expected`` table may state, with their dimension: run-level scalars
-#: (``pull_off_force``, ...) and step keys (read at ``expected.step``, default the last step).
-EXPECTED_KEYS: dict[str, str] = {
-    "pull_off_force": "force", "pull_off_approach": "length", "preload": "force",
-    "static_friction_force": "force", "static_friction_ratio": "dimensionless",
-    "presliding_displacement": "length", "max_tangential_force": "force", "zero_force_stick_ratio": "dimensionless",
-    "hysteresis_energy": "energy",
-    "normal_force": "force", "approach": "length", "contact_area": "area", "adhesive_area": "area",
-    "repulsive_force": "force", "adhesive_force": "force", "max_pressure": "pressure", "mean_gap": "length",
-    "tangential_force_x": "force", "tangential_force_y": "force", "displacement_x": "length",
-    "displacement_y": "length", "stick_area": "area", "slip_area": "area", "stick_ratio": "dimensionless",
-    "capillary_force": "force", "solid_solid_force": "force", "water_solid_force": "force", "wetted_area": "area",
-    "peak_capillary_force": "force", "peak_capillary_rh": "dimensionless",
-}
+#: Summary keys an ``expected`` table may state, with their dimension: what the run kinds
+#: produce (:meth:`tribobem.runs.kind.RunKind.result_keys`: run-level values such as
+#: ``pull_off_force`` and step keys, read at ``expected.step``, default the last step).
+EXPECTED_KEYS: dict[str, str] = {k: d for kind in RUN_KINDS.values() for k, d in kind.result_keys().items()}
 #: Names of the result checks an ``expected.warnings`` list may name: those of
 #: :data:`tribobem.output.checks.CHECKS` (repeated here so that parsing a scenario does not import
 #: the output package; a test keeps the two equal).
@@ -818,6 +808,11 @@ class Scenario(Section):
         if "kernel" in self.solver.model_fields_set and self.solver.kernel != "influence" and not self.grid.periodic:
             _fail("solver.kernel", f"{self.solver.kernel!r} is for periodic grids; a free-boundary grid always "
                   "uses the influence coefficients of uniform pressure on its cells (leave kernel out)")
+        for key in (self.expected.values if self.expected is not None else ()):
+            if key not in kind.result_keys():
+                by = [k for k, kd in RUN_KINDS.items() if key in kd.result_keys()]
+                _fail(f"expected.{key}", f"kind = {self.kind!r} does not produce it (produced by kind "
+                      f"{', '.join(repr(k) for k in by)}); the expected value could never be compared")
         if kind.check is not None:
             try:
                 kind.check(self)
