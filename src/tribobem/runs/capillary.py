@@ -33,11 +33,11 @@ import warnings
 import numpy as np
 
 from ..errors import ConvergenceWarning
-from .common import solve_kw
-from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_humidity
 from ..interactions.films import film_thickness
 from ..interactions.menisci import contribution_coefficient
 from ..solvers.capillary import solve_capillary
+from .common import solve_kw
+from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_elastic_body, require_humidity
 
 __all__ = ["run", "check", "KIND", "films_at", "capillary_options", "capillary_row", "step_maps", "STEP_FIELDS"]
 
@@ -202,6 +202,10 @@ def check(sc) -> None:
     """Kind ``capillary``: ``[humidity] rh`` and one load, held at every RH (``force`` or
     ``approach``)."""
     require_humidity(sc)
+    if sc.load.approach is None:
+        # two rigid bodies at a prescribed approach: the meniscus force of rigid bodies (Paper B
+        # 4.1) is well defined; at a prescribed force the contact reaction is not
+        require_elastic_body(sc)
     given = sc.load.given
     if given not in (["force"], ["approach"]):
         fail("load.force" if not given else f"load.{given[1]}",

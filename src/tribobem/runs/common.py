@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+
 from ..solvers.paths import LoadCurve, find_jumps
 
 __all__ = ["solve_kw", "step_row", "curve_from_rows", "offset_progress"]

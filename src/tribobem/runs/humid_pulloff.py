@@ -35,10 +35,10 @@ import warnings
 import numpy as np
 
 from ..errors import ConvergenceWarning
+from ..solvers.capillary import solve_capillary
 from .capillary import STEP_FIELDS, capillary_options, capillary_row, films_at, step_maps
 from .common import solve_kw
 from .kind import RunOutput
-from ..solvers.capillary import solve_capillary
 
 __all__ = ["run", "humid_pull_off"]
 

@@ -20,11 +20,11 @@ import math
 import numpy as np
 
 from ..analysis.loops import STIFFNESS_POINTS, fit_eq3
+from ..analytic.mindlin import mindlin_compliance_k, mindlin_reloading_stiffness, mindlin_virgin_stiffness
 from ..errors import InputError
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
 from .common import solve_kw
-from .kind import TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load, require_friction
-from ..analytic.mindlin import mindlin_reloading_stiffness, mindlin_virgin_stiffness, mindlin_compliance_k
+from .kind import TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load, require_elastic_body, require_friction
 from .partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
 
 __all__ = ["run", "check", "KIND", "lateral_stiffness_fit", "STIFFNESS_POINTS"]
@@ -219,6 +219,7 @@ def run(pb, bar) -> RunOutput:
 def check(sc) -> None:
     """Kind ``hysteresis``: mu, ``friction.path`` and one normal force held during the cycles;
     incremental slip (the loop follows the history); mu > 0 on a force-controlled path."""
+    require_elastic_body(sc)
     fr, load = require_friction(sc), sc.load
     if fr.path is None:
         fail("friction.path", "required for kind = 'hysteresis': e.g. { control = \"force\", "

@@ -221,6 +221,13 @@ class RunKind:
 
 
 # ----------------------------------------------------------------------------- rules shared by kinds
+def require_elastic_body(sc):
+    """At least one elastic body: two rigid bodies carry no force at a prescribed load."""
+    if sc.body1.rigid and sc.body2.rigid:
+        fail("body2.rigid", "both bodies are rigid; give at least one a finite E (two rigid bodies are "
+                            "allowed only for kind = \"capillary\" at a prescribed load.approach)")
+
+
 def require_friction(sc):
     """The ``[friction]`` section with its coefficient (the tangential kinds need mu)."""
     fr = sc.friction

@@ -12,10 +12,10 @@ import warnings
 import numpy as np
 
 from ..errors import ConvergenceWarning
-from .common import solve_kw, step_row
-from .kind import RunKind, RunOutput, fail, positive_normal_load
 from ..solvers.normal import solve_normal
 from ..solvers.paths import approach_curve, force_curve
+from .common import solve_kw, step_row
+from .kind import RunKind, RunOutput, fail, positive_normal_load, require_elastic_body
 
 __all__ = ["run", "check", "KIND"]
 
@@ -71,6 +71,7 @@ def run(pb, bar) -> RunOutput:
 def check(sc) -> None:
     """Kind ``normal``: exactly one of the four loads; compressive without adhesion; ``unload``
     traces a list back down (a single load has no unloading branch)."""
+    require_elastic_body(sc)
     load = sc.load
     given = load.given
     if len(given) != 1:

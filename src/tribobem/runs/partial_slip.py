@@ -19,11 +19,10 @@ from __future__ import annotations
 
 import math
 
-
 from ..errors import InputError
 from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
 from .common import solve_kw
-from .kind import TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load, require_friction
+from .kind import TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load, require_elastic_body, require_friction
 
 __all__ = ["run", "check", "KIND"]
 
@@ -126,6 +125,7 @@ def check(sc) -> None:
     """Kind ``partial_slip``: mu; one normal force held during a tangential ramp (forces or
     displacements, at most one), or a normal-load path (``load.forces``, incremental slip) paired
     step by step with tangential forces."""
+    require_elastic_body(sc)
     fr, load = require_friction(sc), sc.load
     if len(fr.tangential_given) > 1:
         fail("friction.tangential_displacements", "give at most one of tangential_forces (force "

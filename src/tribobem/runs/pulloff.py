@@ -17,11 +17,11 @@ import warnings
 import numpy as np
 
 from ..errors import ConvergenceWarning
-from .common import curve_from_rows, offset_progress, solve_kw
-from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_humidity
 from ..output.checks import cohesive_cells
 from ..solvers.paths import approach_curve, pull_off
+from .common import curve_from_rows, offset_progress, solve_kw
 from .humid_pulloff import run as humid_run
+from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_elastic_body, require_humidity
 
 __all__ = ["run", "check", "KIND"]
 
@@ -92,6 +92,7 @@ def check(sc) -> None:
     """Kind ``pulloff``: Dugdale adhesion, or ``[humidity]`` (a humid pull-off, the films' keys
     ``film``/``hamaker`` then belong to it); a humid pull-off unloads under displacement control
     from its start with no separate loading branch."""
+    require_elastic_body(sc)
     if sc.humidity is not None:
         require_humidity(sc)
         # What a humid pull-off does anyway may be stated; the other choice is refused.

@@ -800,11 +800,6 @@ class Scenario(Section):
         unused = kind.unused(self, RUN_KINDS)
         if unused:
             _fail(*unused[0])
-        if self.body1.rigid and self.body2.rigid and not (self.kind == "capillary" and self.load.approach is not None):
-            # Two rigid bodies carry no force at a prescribed load; a capillary run at a
-            # prescribed approach is well defined (the meniscus force of rigid bodies, Paper B 4.1).
-            _fail("body2.rigid", "both bodies are rigid; give at least one a finite E (two rigid bodies are "
-                  "allowed only for kind = \"capillary\" at a prescribed load.approach)")
         if "kernel" in self.solver.model_fields_set and self.solver.kernel != "influence" and not self.grid.periodic:
             _fail("solver.kernel", f"{self.solver.kernel!r} is for periodic grids; a free-boundary grid always "
                   "uses the influence coefficients of uniform pressure on its cells (leave kernel out)")
