@@ -16,7 +16,14 @@ MEMORY_FRACTION = 0.8
 
 
 def available_memory() -> int:
-    """Bytes of memory available to this process (falls back to 8 GiB if unknown)."""
+    """Bytes of memory available to this process (falls back to 8 GiB if unknown).
+
+    Returns
+    -------
+    int
+        Available memory in bytes: psutil's ``available``, else the available physical pages,
+        else 8 GiB.
+    """
     try:
         import psutil
 
@@ -64,19 +71,36 @@ class Grid:
 
     @classmethod
     def square(cls, n: int, size: float, periodic: bool = False) -> "Grid":
-        """An n x n grid of side ``size`` (m)."""
+        """An n x n grid of side ``size`` (m).
+
+        Parameters
+        ----------
+        n : int
+            Number of cells along x and y.
+        size : float
+            Side length (m).
+        periodic : bool
+            See :class:`Grid`.
+
+        Returns
+        -------
+        Grid
+        """
         return cls(n, n, size, size, periodic)
 
     @property
     def shape(self) -> tuple[int, int]:
+        """(nx, ny): the shape of every field on the grid."""
         return (self.nx, self.ny)
 
     @property
     def dx(self) -> float:
+        """Cell size along x, lx / nx (m)."""
         return self.lx / self.nx
 
     @property
     def dy(self) -> float:
+        """Cell size along y, ly / ny (m)."""
         return self.ly / self.ny
 
     @property
@@ -113,6 +137,19 @@ class Grid:
 
         ``n_fields`` full-size float64 work arrays plus the cached kernel spectra and FFT
         buffers (on the padded 2nx x 2ny grid for the free-boundary operator).
+
+        Parameters
+        ----------
+        n_fields : int
+            Number of full-size float64 work arrays per component.
+        n_components : int
+            Traction components solved together (1 normal, 2 tangential, 3 coupled); the
+            kernel spectra grow with its square.
+
+        Returns
+        -------
+        int
+            Estimated peak memory (bytes).
         """
         pad = 1 if self.periodic else 4
         cells = self.nx * self.ny
@@ -121,7 +158,24 @@ class Grid:
         return int(fields + kernels)
 
     def check_memory(self, n_fields: int = 12, n_components: int = 1, budget: int | None = None) -> None:
-        """Raise :class:`MemoryBudgetError` if a solve would not fit in memory."""
+        """Raise :class:`MemoryBudgetError` if a solve would not fit in memory.
+
+        The estimate is checked before allocating, so that a too-large grid fails at once with
+        a message instead of swapping or being killed.
+
+        Parameters
+        ----------
+        n_fields, n_components : int
+            As for :meth:`estimate_bytes`.
+        budget : int, optional
+            Memory (bytes) to plan against; default :func:`available_memory`.  Only
+            :data:`MEMORY_FRACTION` of it may be used.
+
+        Raises
+        ------
+        MemoryBudgetError
+            The estimate exceeds the usable memory.
+        """
         need = self.estimate_bytes(n_fields, n_components)
         have = int((budget if budget is not None else available_memory()) * MEMORY_FRACTION)
         if need > have:

@@ -39,11 +39,23 @@ class Material:
 
     @classmethod
     def rigid(cls, name: str = "rigid") -> "Material":
-        """A rigid body (infinite modulus)."""
+        """A rigid body (infinite modulus).
+
+        Parameters
+        ----------
+        name : str
+            Label used in reports.
+
+        Returns
+        -------
+        Material
+            ``Material(math.inf, 0.0, name)``; nu does not matter for a rigid body.
+        """
         return cls(math.inf, 0.0, name)
 
     @property
     def is_rigid(self) -> bool:
+        """True for an infinite Young's modulus."""
         return math.isinf(self.E)
 
     @property
@@ -98,5 +110,23 @@ class ContactPair:
 
 
 def effective_modulus(E1: float, nu1: float, E2: float = math.inf, nu2: float = 0.0) -> float:
-    """Composite modulus E* (Pa) of two bodies; ``E2=inf`` (default) makes body 2 rigid."""
+    """Composite modulus E* (Pa) of two bodies; ``E2=inf`` (default) makes body 2 rigid.
+
+    Parameters
+    ----------
+    E1, nu1 : float
+        Young's modulus (Pa; ``math.inf`` for rigid) and Poisson's ratio of body 1.
+    E2, nu2 : float
+        The same for body 2.
+
+    Returns
+    -------
+    float
+        E* with 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (Pa).
+
+    Raises
+    ------
+    InputError
+        An invalid modulus or Poisson's ratio, or two rigid bodies.
+    """
     return ContactPair(Material(E1, nu1, "body1"), Material(E2, nu2, "body2")).effective_modulus

@@ -39,6 +39,11 @@ class NormalResult:
         Wall time of the solve (s).
     message : str
         Why the solver stopped.
+    control : {"force", "displacement"}
+        Whether the force or the approach was prescribed.
+    info : dict
+        Diagnostics of the solve: ``max_penetration`` (m), the interaction and operator, and
+        the solver's own entries (e.g. its counters).
     """
 
     grid: Grid
@@ -84,6 +89,7 @@ class NormalResult:
 
     @property
     def contact_fraction(self) -> float:
+        """Contact area over the nominal area lx ly (dimensionless)."""
         return self.contact_area / self.grid.area
 
     @property
@@ -98,6 +104,7 @@ class NormalResult:
 
     @property
     def max_pressure(self) -> float:
+        """Largest pressure on the grid (Pa)."""
         return float(np.max(self.pressure))
 
     @property
@@ -200,6 +207,7 @@ class TangentialResult:
 
     @property
     def residual(self) -> float:
+        """Final residual (the last entry of ``residual_history``; NaN when empty)."""
         return float(self.residual_history[-1]) if len(self.residual_history) else float("nan")
 
     @property
@@ -271,6 +279,14 @@ class CoupledResult:
     message: str = ""
 
     def scalars(self) -> dict:
+        """The per-step scalars of the summary.json file contract (SPEC 9.1).
+
+        Returns
+        -------
+        dict
+            The normal and tangential scalars, the normal solve's ``converged`` renamed
+            ``normal_converged``, ``coupling_iterations``, and ``converged`` of the whole step.
+        """
         row = self.normal.scalars()
         row["normal_converged"] = row.pop("converged")
         row.update(self.tangential.scalars())

@@ -53,7 +53,16 @@ _ALIASES = (
 
 @lru_cache(maxsize=1)
 def registry():
-    """The shared :class:`pint.UnitRegistry` (created on first use: it takes ~0.3 s)."""
+    """The shared :class:`pint.UnitRegistry`.
+
+    Built on first use and cached, so that importing tribobem (and every scenario without a
+    unit string) does not pay for building it; ``%RH`` (``percent_rh``) is defined on it.
+
+    Returns
+    -------
+    pint.UnitRegistry
+        The same registry at every call.
+    """
     import pint
 
     ureg = pint.UnitRegistry()
@@ -106,7 +115,30 @@ def to_si(value, dimension: str, field: str = "value") -> float:
 
 
 def convert(value, dimension: str) -> float:
-    """:func:`to_si` without the field name: raises :class:`UnitMismatch` (a ValueError)."""
+    """:func:`to_si` without the field name: raises :class:`UnitMismatch` (a ValueError).
+
+    For callers that attach their own context to the error (a schema validator, a table
+    column) instead of :func:`to_si`'s ``field: message``.
+
+    Parameters
+    ----------
+    value : float, int or str
+        A number (taken as SI) or a string with a unit, as for :func:`to_si`.
+    dimension : str
+        One of :data:`DIMENSIONS`.
+
+    Returns
+    -------
+    float
+        The value in SI units.
+
+    Raises
+    ------
+    UnitMismatch
+        An unparsable string, the wrong dimensionality, a boolean or NaN.
+    ValueError
+        An unknown ``dimension``.
+    """
     dim, si, what = _describe(dimension)
     unit_hint = f" ({si})" if si else ""
     if isinstance(value, bool):
@@ -158,7 +190,16 @@ def parse_quantity(text: str):
     """A string with a unit as a :class:`pint.Quantity` of the shared registry, or None.
 
     The spellings :func:`convert` accepts (``µm``, ``micron``, ``Å``) are accepted here too.
-    None when pint cannot parse the string or it is not a quantity.
+
+    Parameters
+    ----------
+    text : str
+        E.g. ``"30 mJ/m^2"``.
+
+    Returns
+    -------
+    pint.Quantity or None
+        None when pint cannot parse the string or it is not a quantity (a plain number).
     """
     try:
         q = _parse(text)
@@ -174,6 +215,17 @@ def si_value(value):
     Integers stay integers; other values (booleans, None, strings that are not quantities,
     tables) come back unchanged.  Parameter grids (:mod:`tribobem.sweep`) use it to give every
     swept value a numerical coordinate.
+
+    Parameters
+    ----------
+    value : object
+        Any scenario value.
+
+    Returns
+    -------
+    int, float or object
+        The SI float (base units, rounded to 14 significant digits), an int for an int, or
+        ``value`` itself.
     """
     if isinstance(value, bool) or value is None:
         return value
@@ -198,8 +250,21 @@ def si_value(value):
 
 
 def si_unit(value) -> str:
-    """The SI base unit (pint's spelling, e.g. ``"kilogram / meter / second ** 2"``) of a quantity
-    string; ``""`` for anything else (a number, a plain-number string, an unparsable string)."""
+    """The SI base unit of a quantity string, in pint's spelling.
+
+    The companion of :func:`si_value`: the unit its number is in.
+
+    Parameters
+    ----------
+    value : object
+        Any scenario value.
+
+    Returns
+    -------
+    str
+        E.g. ``"kilogram / meter / second ** 2"`` for ``"130 GPa"``; ``""`` for anything else
+        (a number, a plain-number string, an unparsable string).
+    """
     if not isinstance(value, str):
         return ""
     try:
@@ -267,7 +332,25 @@ def display_unit(values, dimension: str, ascii_only: bool = False) -> tuple[floa
 
 def format_quantity(value, dimension: str, digits: int = 4, ascii_only: bool = False) -> str:
     """``value`` (SI) as a string in a readable unit, e.g. ``format_quantity(1.2e-6, "force")
-    == '1.2 µN'``."""
+    == '1.2 µN'``.
+
+    Parameters
+    ----------
+    value : float or None
+        The value in SI units.
+    dimension : str
+        As for :func:`display_unit`.
+    digits : int
+        Significant digits.
+    ascii_only : bool
+        Write "u" instead of the micro sign.
+
+    Returns
+    -------
+    str
+        ``"<number> <unit>"``; ``"n/a"`` for None, ``str(value)`` for a non-number or a
+        non-finite value.
+    """
     if value is None:
         return "n/a"
     try:

@@ -151,23 +151,57 @@ class BranchFit:
     rms_residual: float
 
     def force(self, delta):
-        """F (N) of the fit at the absolute displacement ``delta`` (m)."""
+        """F (N) of the fit at the absolute displacement ``delta`` (m).
+
+        Parameters
+        ----------
+        delta : float or array_like
+            Absolute displacement (m), the loop's own coordinate.
+
+        Returns
+        -------
+        float or ndarray
+            F_turn + c1 (1 - (1 - c2 (delta - delta_turn))^n) (N); constant beyond saturation.
+        """
         x = np.clip(1.0 - self.c2 * (np.asarray(delta, float) - self.turn_displacement), 0.0, None)
         return self.turn_force + self.c1 * (1.0 - x ** self.n)
 
     def stiffness_at_displacement(self, delta):
-        """K_L = dF/d(delta) (N/m) of the fit at the absolute displacement ``delta`` (m)."""
+        """K_L = dF/d(delta) (N/m) of the fit at the absolute displacement ``delta`` (m).
+
+        Parameters
+        ----------
+        delta : float or array_like
+            Absolute displacement (m), the loop's own coordinate.
+
+        Returns
+        -------
+        float or ndarray
+            c1 c2 n (1 - c2 (delta - delta_turn))^(n - 1) (N/m).
+        """
         x = np.clip(1.0 - self.c2 * (np.asarray(delta, float) - self.turn_displacement), 1e-12, None)
         return self.c1 * self.c2 * self.n * x ** (self.n - 1.0)
 
     def displacement_at(self, force: float) -> float:
-        """Absolute displacement (m) where the fit reaches ``force`` (N); NaN outside the fit."""
+        """Absolute displacement (m) where the fit reaches ``force`` (N); NaN outside the fit.
+
+        Parameters
+        ----------
+        force : float
+            Force (N), the loop's own coordinate.
+
+        Returns
+        -------
+        float
+            Displacement (m); NaN where ``force - F_turn`` is outside [0, c1).
+        """
         rel = (float(force) - self.turn_force) / self.c1
         if not (0.0 <= rel < 1.0):
             return math.nan
         return self.turn_displacement + (1.0 - (1.0 - rel) ** (1.0 / self.n)) / self.c2
 
     def as_dict(self) -> dict:
+        """The fit as a plain dict (field name -> value), for JSON output."""
         return {k: getattr(self, k) for k in ("start", "end", "fit_end", "turn_force", "turn_displacement", "c1",
                                               "c2", "n", "sliding", "plateau_force", "points", "rms_residual")}
 
@@ -292,8 +326,27 @@ def read_loop(path) -> Loop:
 
 
 def loop_from_summary(result) -> Loop:
-    """The simulated loop of a hysteresis result (a folder with summary.json, the file, or the
-    summary dict), projected on the path direction; ``force_scale = mu F0+``."""
+    """The simulated loop of a hysteresis result, projected on the path direction.
+
+    Parameters
+    ----------
+    result : path-like or dict
+        A hysteresis run's result folder (with summary.json), the file, or the summary dict.
+
+    Returns
+    -------
+    Loop
+        Displacement (m) and force (N) per step, ``kind="simulated"``, with
+        ``force_scale = mu F0+`` (``max |F|`` when the summary lacks mu or F0+).
+
+    Raises
+    ------
+    FileNotFoundError
+        No such result.
+    InputError
+        A folder without summary.json, a run of another kind, or fewer than
+        :data:`MIN_POINTS` steps.
+    """
 
     if isinstance(result, dict):
         summary, source = result, "summary"
@@ -337,9 +390,21 @@ def turning_points(displacement, threshold: float = REVERSAL_THRESHOLD) -> list[
     ``(0, "start")`` and ``(n - 1, "end")``.
 
     A reversal counts once the record has moved back from its running extreme by more than
-    ``threshold`` times the displacement range.  Long records (> 400 points) are first smoothed
-    by a running median over n/200 points (noise and single spikes make no reversal); each
-    reversal is then placed at the extreme of the raw record within that width.
+    ``threshold`` times the displacement range.  Long records (400 points or more) are first
+    smoothed by a running median over about n/200 points (noise and single spikes make no
+    reversal); each reversal is then placed at the extreme of the raw record within that width.
+
+    Parameters
+    ----------
+    displacement : array_like
+        Displacement record (any unit), in record order.
+    threshold : float
+        Smallest reversal, as a fraction of the displacement range.
+
+    Returns
+    -------
+    list of (int, str)
+        ``(index, "start" | "min" | "max" | "end")`` in record order; empty for an empty record.
     """
     raw = np.asarray(displacement, float)
     n = len(raw)
@@ -396,7 +461,25 @@ def turning_points(displacement, threshold: float = REVERSAL_THRESHOLD) -> list[
 
 def last_branch(displacement, source: str = "loop") -> tuple[int, int]:
     """(start, end) indices of the last rising branch from a displacement minimum (turning
-    point) to the next maximum, spanning at least :data:`MIN_BRANCH_SPAN` of the range."""
+    point) to the next maximum, spanning at least :data:`MIN_BRANCH_SPAN` of the range.
+
+    Parameters
+    ----------
+    displacement : array_like
+        Displacement record, in record order.
+    source : str
+        Name of the record, for the error message.
+
+    Returns
+    -------
+    tuple of int
+        Indices of the turning point and of the branch's end.
+
+    Raises
+    ------
+    InputError
+        No such branch (not a full loop).
+    """
     d = np.asarray(displacement, float)
     tp = turning_points(d)
     rng = float(np.ptp(d))
@@ -436,7 +519,17 @@ def fit_eq3(x, y) -> tuple[tuple[float, float, float], float]:
     x, y : array_like
         Displacement (m) and force (N) from the turning point, both increasing from 0.
 
-    Returns ((c1, c2, n), rms residual).
+    Returns
+    -------
+    params : tuple of float
+        (c1 (N), c2 (1/m), n (-)).
+    rms : float
+        rms residual of the fit (N).
+
+    Raises
+    ------
+    InputError
+        A branch without a positive displacement and force.
     """
     from scipy.optimize import least_squares
 
@@ -490,11 +583,24 @@ def fit_branch(loop: Loop, plateau_fraction: float = 0.98) -> BranchFit:
     """Fit Paper F Eq. 3 to the pre-sliding part of the loop's last rising branch (see the module
     docstring for the rules, identical for measured and simulated loops).
 
+    Parameters
+    ----------
+    loop : Loop
+        A measured or simulated loop.
+    plateau_fraction : float
+        In (0.5, 1): on a branch that ends in gross sliding, the pre-sliding part ends where
+        F - F_turn first reaches this fraction of the plateau.
+
+    Returns
+    -------
+    BranchFit
+
     Raises
     ------
     InputError
         No full rising branch, or fewer than :data:`MIN_FIT_POINTS` points before gross sliding
-        (a simulated loop needs more steps per cycle; the message says how many were found).
+        (a simulated loop needs more steps per cycle; the message says how many were found),
+        or ``plateau_fraction`` outside (0.5, 1).
     """
     if not (0.5 < plateau_fraction < 1.0):
         raise InputError("plateau_fraction", f"must be in (0.5, 1), got {plateau_fraction!r}")
@@ -534,9 +640,21 @@ def fit_branch(loop: Loop, plateau_fraction: float = 0.98) -> BranchFit:
 def stiffness_points(loop: Loop, fit: BranchFit, points=None) -> list[dict]:
     """K_L of the fit at the points A, B, C (``F / force_scale`` = -0.5, 0, 0.5 by default).
 
-    Each row: ``point``, ``force_ratio``, ``force`` (N), ``displacement`` (m, where the fit
-    reaches that force; NaN when the point is not on the fitted pre-sliding part), ``stiffness``
-    (N/m, NaN likewise).
+    Parameters
+    ----------
+    loop : Loop
+        The loop (its ``force_scale``).
+    fit : BranchFit
+        The Eq. 3 fit of its last rising branch (:func:`fit_branch`).
+    points : mapping, optional
+        Point name -> ``F / force_scale``; default :data:`STIFFNESS_POINTS`.
+
+    Returns
+    -------
+    list of dict
+        One row per point: ``point``, ``force_ratio``, ``force`` (N), ``displacement`` (m,
+        where the fit reaches that force; NaN when the point is not on the fitted pre-sliding
+        part), ``stiffness`` (N/m, NaN likewise).
     """
     points = STIFFNESS_POINTS if points is None else points
     top = fit.turn_force + float(np.max(loop.force[fit.start:fit.fit_end + 1] - fit.turn_force))
@@ -552,7 +670,20 @@ def stiffness_points(loop: Loop, fit: BranchFit, points=None) -> list[dict]:
 # ----------------------------------------------------------------------------- comparison
 @dataclass
 class LoopComparison:
-    """Measured and simulated loops fitted the same way (:func:`compare_loops`)."""
+    """Measured and simulated loops fitted the same way (:func:`compare_loops`).
+
+    Attributes
+    ----------
+    simulated, measured : Loop
+        The two loops.
+    simulated_fit, measured_fit : BranchFit
+        Their Eq. 3 fits.
+    rows : list of dict
+        One per point A, B, C: ``point``, ``force_ratio``, ``simulated`` and ``measured``
+        (rows of :func:`stiffness_points`) and ``ratio`` = K_sim / K_meas.
+    figure : pathlib.Path or None
+        The overlay figure once drawn (:func:`tribobem.output.loops.comparison_figure`).
+    """
 
     simulated: Loop
     measured: Loop
@@ -563,6 +694,15 @@ class LoopComparison:
     figure: Path | None = None
 
     def as_dict(self) -> dict:
+        """The comparison as plain JSON types.
+
+        Returns
+        -------
+        dict
+            ``simulated`` and ``measured`` (source, points, force scale, normalisation, units,
+            fit, stiffness rows), ``points`` (per point the two K_L in N/m and their ratio),
+            ``ratio`` (what the ratio is) and ``figure`` (path or None).
+        """
         def side(loop, fit, pts):
             return {"source": loop.source, "points_in_record": len(loop), "force_scale": loop.force_scale,
                     "normalisation": loop.normalisation, "units": loop.units, "fit": fit.as_dict(),

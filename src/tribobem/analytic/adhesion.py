@@ -155,6 +155,11 @@ def dugdale_stress(dgamma, z0):
         Work of adhesion (J/m^2).
     z0 : float or array_like
         Equilibrium distance (m).
+
+    Returns
+    -------
+    float or ndarray
+        sigma0 (Pa), broadcast over the inputs.
     """
     return _out(16.0 * np.asarray(dgamma, float) / (9.0 * _SQRT3 * np.asarray(z0, float)))
 
@@ -162,7 +167,18 @@ def dugdale_stress(dgamma, z0):
 def dugdale_range(z0):
     """Dugdale range h0 = dgamma/sigma0 = 9 sqrt(3) z0 / 16 = 0.974 z0 (m).
 
-    (Paper D prints "9 sqrt(3) z0": wrong, see SPEC 5.)
+    The range follows from equal work of adhesion, sigma0 h0 = dgamma, with the Dugdale stress
+    of :func:`dugdale_stress`.  (Paper D prints "9 sqrt(3) z0": wrong, see SPEC 5.)
+
+    Parameters
+    ----------
+    z0 : float or array_like
+        Equilibrium distance (m).
+
+    Returns
+    -------
+    float or ndarray
+        h0 (m), shape of ``z0``.
     """
     return _out(9.0 * _SQRT3 * np.asarray(z0, float) / 16.0)
 
@@ -180,6 +196,11 @@ def tabor_parameter(radius, dgamma, E_star, z0):
         Composite modulus (Pa).
     z0 : float
         Equilibrium distance (m).
+
+    Returns
+    -------
+    float or ndarray
+        mu_T (dimensionless), broadcast over the inputs.
     """
     R, g, E, z = (np.asarray(v, float) for v in (radius, dgamma, E_star, z0))
     return _out(np.cbrt(R * g**2 / (E**2 * z**3)))
@@ -200,6 +221,11 @@ def maugis_parameter(radius, dgamma, E_star, z0):
         Composite modulus (Pa).
     z0 : float
         Equilibrium distance (m).
+
+    Returns
+    -------
+    float or ndarray
+        lambda (dimensionless), broadcast over the inputs.
     """
     R, g, E = (np.asarray(v, float) for v in (radius, dgamma, E_star))
     s0 = dugdale_stress(dgamma, z0)
@@ -207,12 +233,38 @@ def maugis_parameter(radius, dgamma, E_star, z0):
 
 
 def maugis_from_tabor(mu_T):
-    """lambda = 1.1570 mu_T (exact factor for the Dugdale stress of Paper A Eq. 2)."""
+    """Maugis parameter from the Tabor parameter: lambda = 1.1570 mu_T.
+
+    The factor :data:`MAUGIS_PER_TABOR` is exact for the Dugdale stress of Paper A Eq. 2.
+
+    Parameters
+    ----------
+    mu_T : float or array_like
+        Tabor parameter (dimensionless).
+
+    Returns
+    -------
+    float or ndarray
+        lambda (dimensionless), shape of ``mu_T``.
+    """
     return _out(MAUGIS_PER_TABOR * np.asarray(mu_T, float))
 
 
 def tabor_from_maugis(lam):
-    """mu_T = lambda / 1.1570."""
+    """Tabor parameter from the Maugis parameter: mu_T = lambda / 1.1570.
+
+    Inverse of :func:`maugis_from_tabor`.
+
+    Parameters
+    ----------
+    lam : float or array_like
+        Maugis parameter lambda (dimensionless).
+
+    Returns
+    -------
+    float or ndarray
+        mu_T (dimensionless), shape of ``lam``.
+    """
     return _out(np.asarray(lam, float) / MAUGIS_PER_TABOR)
 
 
@@ -221,12 +273,38 @@ def tabor_from_maugis(lam):
 # ----------------------------------------------------------------------------------------------
 
 def bradley_pull_off(radius, dgamma):
-    """Bradley (rigid spheres) pull-off force -2 pi R dgamma (N, negative)."""
+    """Bradley (rigid spheres) pull-off force -2 pi R dgamma (N, negative).
+
+    Parameters
+    ----------
+    radius : float or array_like
+        Composite sphere radius R (m).
+    dgamma : float or array_like
+        Work of adhesion (J/m^2).
+
+    Returns
+    -------
+    float or ndarray
+        Pull-off force (N, negative), broadcast over the inputs.
+    """
     return _out(-2.0 * np.pi * np.asarray(radius, float) * np.asarray(dgamma, float))
 
 
 def bradley_pull_off_magnitude(radius, dgamma):
-    """|Bradley pull-off force| = 2 pi R dgamma (N, positive)."""
+    """|Bradley pull-off force| = 2 pi R dgamma (N, positive).
+
+    Parameters
+    ----------
+    radius : float or array_like
+        Composite sphere radius R (m).
+    dgamma : float or array_like
+        Work of adhesion (J/m^2).
+
+    Returns
+    -------
+    float or ndarray
+        Magnitude of the pull-off force (N, positive).
+    """
     return _out(-np.asarray(bradley_pull_off(radius, dgamma)))
 
 
@@ -316,6 +394,25 @@ def jkr_pressure(r, contact_radius, radius, dgamma, E_star):
     """JKR pressure (Eq. A.9), Pa; -inf-like singular at r = a, 0 outside.
 
     p(r) = 2 a E*/(pi R) sqrt(1 - r^2/a^2) - sqrt(2 dgamma E*/(pi a)) / sqrt(1 - r^2/a^2).
+
+    Parameters
+    ----------
+    r : array_like
+        Radial positions (m).
+    contact_radius : float
+        Contact radius a (m), > 0.
+    radius : float
+        Composite sphere radius R (m).
+    dgamma : float
+        Work of adhesion (J/m^2).
+    E_star : float
+        Composite modulus (Pa).
+
+    Returns
+    -------
+    float or ndarray
+        Pressure (Pa, compressive positive), shape of ``r``; -inf at r = a (the JKR crack-tip
+        singularity) and 0 for r >= a.
     """
     r = np.asarray(r, float)
     a = float(contact_radius)
@@ -332,6 +429,26 @@ def jkr_pull_off(radius, dgamma, control="force"):
 
     ``control="force"``: -3/2 pi R dgamma (Eq. A.12); ``control="displacement"`` (fixed grips,
     jump-off at the minimum of the approach): -5/6 pi R dgamma.
+
+    Parameters
+    ----------
+    radius : float or array_like
+        Composite sphere radius R (m).
+    dgamma : float or array_like
+        Work of adhesion (J/m^2).
+    control : {"force", "displacement"}
+        Loading control: force control (the pull-off is the minimum of the force) or fixed
+        grips (the jump-off at the minimum of the approach).
+
+    Returns
+    -------
+    float or ndarray
+        Pull-off force (N, negative), broadcast over ``radius`` and ``dgamma``.
+
+    Raises
+    ------
+    InputError
+        ``control`` is neither ``"force"`` nor ``"displacement"``.
     """
     _check_control(control)
     f = 1.5 if control == "force" else 5.0 / 6.0
@@ -339,7 +456,23 @@ def jkr_pull_off(radius, dgamma, control="force"):
 
 
 def jkr_pull_off_magnitude(radius, dgamma, control="force"):
-    """|JKR pull-off force| (N, positive); see :func:`jkr_pull_off`."""
+    """|JKR pull-off force| (N, positive); see :func:`jkr_pull_off`.
+
+    Parameters
+    ----------
+    radius : float or array_like
+        Composite sphere radius R (m).
+    dgamma : float or array_like
+        Work of adhesion (J/m^2).
+    control : {"force", "displacement"}
+        Loading control: force control (the pull-off is the minimum of the force) or fixed
+        grips (the jump-off at the minimum of the approach).
+
+    Returns
+    -------
+    float or ndarray
+        Magnitude of the pull-off force (N, positive).
+    """
     return _out(-np.asarray(jkr_pull_off(radius, dgamma, control)))
 
 
@@ -365,8 +498,34 @@ class DMTSolution:
 def dmt(radius, dgamma, E_star, *, force=None, contact_radius=None, approach=None) -> DMTSolution:
     """DMT contact of a sphere on a flat (Eqs. A.13-A.14): Hertz shifted by the adhesive load.
 
-    Give exactly one of ``force`` (>= -2 pi R dgamma), ``contact_radius`` or ``approach``
-    (>= 0); see :class:`DMTSolution`.
+    Give exactly one of ``force``, ``contact_radius`` or ``approach``.
+
+    Parameters
+    ----------
+    radius : float
+        Composite sphere radius R (m).
+    dgamma : float
+        Work of adhesion (J/m^2).
+    E_star : float
+        Composite modulus (Pa).
+    force : float or array_like, optional
+        Normal force F >= -2 pi R dgamma (N, compressive positive).
+    contact_radius : float or array_like, optional
+        Contact radius a >= 0 (m).
+    approach : float or array_like, optional
+        Approach delta >= 0 (m).
+
+    Returns
+    -------
+    DMTSolution
+        Contact radius, force and approach (vectorised).
+
+    Raises
+    ------
+    InputError
+        Not exactly one of ``force``, ``contact_radius``, ``approach``; a non-positive
+        ``radius``, ``dgamma`` or ``E_star``; a force below the DMT pull-off or a negative
+        approach.
     """
     R, g, E = _pos("radius", radius), _pos("dgamma", dgamma), _pos("E_star", E_star)
     if sum(v is not None for v in (force, contact_radius, approach)) != 1:
@@ -389,12 +548,38 @@ def dmt(radius, dgamma, E_star, *, force=None, contact_radius=None, approach=Non
 
 
 def dmt_pull_off(radius, dgamma):
-    """DMT pull-off force -2 pi R dgamma (N, negative; Eq. A.14)."""
+    """DMT pull-off force -2 pi R dgamma (N, negative; Eq. A.14).
+
+    Parameters
+    ----------
+    radius : float or array_like
+        Composite sphere radius R (m).
+    dgamma : float or array_like
+        Work of adhesion (J/m^2).
+
+    Returns
+    -------
+    float or ndarray
+        Pull-off force (N, negative), broadcast over the inputs.
+    """
     return _out(-2.0 * np.pi * np.asarray(radius, float) * np.asarray(dgamma, float))
 
 
 def dmt_pull_off_magnitude(radius, dgamma):
-    """|DMT pull-off force| = 2 pi R dgamma (N, positive)."""
+    """|DMT pull-off force| = 2 pi R dgamma (N, positive).
+
+    Parameters
+    ----------
+    radius : float or array_like
+        Composite sphere radius R (m).
+    dgamma : float or array_like
+        Work of adhesion (J/m^2).
+
+    Returns
+    -------
+    float or ndarray
+        Magnitude of the pull-off force (N, positive).
+    """
     return _out(-np.asarray(dmt_pull_off(radius, dgamma)))
 
 
@@ -405,6 +590,16 @@ def johnson_greenwood_pull_off_fit(lam):
     (DMT), -1.5 as lambda -> inf (JKR).  An empirical fit (Johnson & Greenwood, J. Colloid
     Interface Sci. 192, 326 (1997)); it agrees with the exact value of
     :func:`maugis_dugdale_pull_off` to within 1.7 % for every lambda (checked in the tests).
+
+    Parameters
+    ----------
+    lam : float or array_like
+        Maugis parameter lambda (dimensionless, >= 0).
+
+    Returns
+    -------
+    float or ndarray
+        F_M = F_pull-off / (pi R dgamma) (dimensionless, negative), shape of ``lam``.
     """
     x = 4.04 * np.asarray(lam, float) ** 1.4
     return _out(-1.75 + 0.25 * (x - 1.0) / (x + 1.0))
@@ -669,7 +864,17 @@ def maugis_dugdale_pull_off_point(lam, control="force") -> MaugisDugdalePullOff:
 def maugis_dugdale_pull_off(lam, control="force"):
     """Dimensionless MD pull-off force F_M = F_pull-off/(pi R dgamma) (negative).
 
-    Vectorised over ``lam``; see :func:`maugis_dugdale_pull_off_point` for ``control``.
+    Parameters
+    ----------
+    lam : float or array_like
+        Maugis parameter(s) lambda (> 0); vectorised.
+    control : {"force", "displacement"}
+        See :func:`maugis_dugdale_pull_off_point`.
+
+    Returns
+    -------
+    float or ndarray
+        F_M at pull-off (dimensionless, negative), shape of ``lam``.
     """
     lams = np.asarray(lam, dtype=float)
     out = np.array([maugis_dugdale_pull_off_point(x, control).force for x in lams.ravel()])
@@ -678,6 +883,15 @@ def maugis_dugdale_pull_off(lam, control="force"):
 
 def maugis_dugdale_scales(radius, dgamma, E_star):
     """Length/force scales of the Johnson-Greenwood units.
+
+    Parameters
+    ----------
+    radius : float
+        Composite sphere radius R (m).
+    dgamma : float
+        Work of adhesion (J/m^2).
+    E_star : float
+        Composite modulus (Pa).
 
     Returns
     -------
@@ -695,13 +909,51 @@ def maugis_dugdale_scales(radius, dgamma, E_star):
 
 
 def maugis_dugdale_pull_off_force(radius, dgamma, E_star, z0, control="force"):
-    """Dimensional Maugis-Dugdale pull-off force (N, negative) of a sphere on a flat."""
+    """Dimensional Maugis-Dugdale pull-off force (N, negative) of a sphere on a flat.
+
+    Parameters
+    ----------
+    radius : float
+        Composite sphere radius R (m).
+    dgamma : float
+        Work of adhesion (J/m^2).
+    E_star : float
+        Composite modulus (Pa).
+    z0 : float
+        Equilibrium distance (m); with ``dgamma`` it sets the Dugdale stress and so lambda.
+    control : {"force", "displacement"}
+        See :func:`maugis_dugdale_pull_off_point`.
+
+    Returns
+    -------
+    float
+        Pull-off force F_M pi R dgamma (N, negative).
+    """
     lam = maugis_parameter(radius, dgamma, E_star, z0)
     return float(maugis_dugdale_pull_off(lam, control)) * np.pi * float(radius) * float(dgamma)
 
 
 def maugis_dugdale_pull_off_magnitude(radius, dgamma, E_star, z0, control="force"):
-    """|Maugis-Dugdale pull-off force| (N, positive)."""
+    """|Maugis-Dugdale pull-off force| (N, positive).
+
+    Parameters
+    ----------
+    radius : float
+        Composite sphere radius R (m).
+    dgamma : float
+        Work of adhesion (J/m^2).
+    E_star : float
+        Composite modulus (Pa).
+    z0 : float
+        Equilibrium distance (m); with ``dgamma`` it sets the Dugdale stress and so lambda.
+    control : {"force", "displacement"}
+        See :func:`maugis_dugdale_pull_off_point`.
+
+    Returns
+    -------
+    float
+        Magnitude of :func:`maugis_dugdale_pull_off_force` (N, positive).
+    """
     return -maugis_dugdale_pull_off_force(radius, dgamma, E_star, z0, control)
 
 
@@ -824,6 +1076,24 @@ def maugis_dugdale_pressure(r, radius, dgamma, E_star, z0, a=None, force=None, a
     ----------
     r : array_like
         Radial positions (m).
+    radius, dgamma, E_star, z0 : float
+        R (m), work of adhesion (J/m^2), composite modulus (Pa), equilibrium distance (m).
+    a : float, optional
+        Contact radius (m).
+    force : float, optional
+        Normal force (N); the stable (largest-a) state is used.
+    approach : float, optional
+        Approach (m); the contact branch (largest a) is used.
+
+    Returns
+    -------
+    float or ndarray
+        Pressure (Pa, compressive positive), shape of ``r``.
+
+    Raises
+    ------
+    InputError
+        As :func:`maugis_dugdale`, or a state given as an array.
     """
     sol = maugis_dugdale(radius, dgamma, E_star, z0, a=a, force=force, approach=approach)
     if np.ndim(sol.contact_radius) != 0:

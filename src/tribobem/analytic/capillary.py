@@ -150,6 +150,37 @@ def sphere_flat_island_force(radius: float, kelvin_radius: float, capillary_pres
     The meniscus covers g(r) < S with S = |r_k| (cos theta1 + cos theta2) + t_ball + t_flat:
     r_w^2 = 2 R S - S^2 for the exact sphere g = R - sqrt(R^2 - r^2) (``exact``), 2 R S for the
     paraboloid r^2/(2R); F = pi r_w^2 dP_cap.  0 at RH = 1.
+
+    This is the closed form of what the discrete island rule
+    (:func:`~tribobem.interactions.menisci.meniscus_islands`) computes on a grid, so the
+    validation can separate the discretisation error from the model difference to the toroidal
+    meniscus of :func:`sphere_flat_capillary`.
+
+    Parameters
+    ----------
+    radius : float
+        Sphere radius R (m).
+    kelvin_radius : float
+        r_k (m, < 0; ``-inf`` at RH = 1); only ``|r_k|`` enters the cut height.
+    capillary_pressure : float
+        dP_cap = gamma / r_k (Pa, <= 0; 0 at RH = 1, which gives a zero force).
+    film_ball, film_flat : float
+        Adsorbed film thicknesses t_ball, t_flat on the sphere and the flat (m, >= 0).
+    contact_angles : (float, float)
+        theta1, theta2 (rad) of the meniscus on the two bodies.
+    exact : bool
+        True: the exact sphere gap ``R - sqrt(R^2 - r^2)`` (S capped at R); False: the
+        paraboloid ``r^2/(2R)`` of the solvers' sphere geometry.
+
+    Returns
+    -------
+    float
+        Capillary force pi r_w^2 dP_cap (N, negative = tensile).
+
+    Raises
+    ------
+    InputError
+        Invalid radius, Kelvin radius, pressure or films.
     """
     R, rk, dp, t1, t2, _ = _check(radius, kelvin_radius, capillary_pressure, film_ball, film_flat, 0.0)
     if dp == 0.0:

@@ -233,6 +233,11 @@ def mindlin_delta0(*, P, a, mu, k) -> float:
         Friction coefficient.
     k : float
         Tangential compliance, :func:`mindlin_compliance_k` (1/Pa).
+
+    Returns
+    -------
+    float
+        delta0 (m).
     """
     P, a, mu, k = _common(P, a, mu, k)
     return 3.0 * mu * P * k / (16.0 * a)
@@ -396,6 +401,11 @@ def mindlin_unloading_displacement(Q, Q_star, *, P, a, mu, k):
         Turning-point amplitude (N), ``0 < Q* <= mu P``.
     P, a, mu, k : float
         Normal force (N), contact radius (m), friction coefficient, compliance (1/Pa).
+
+    Returns
+    -------
+    float or ndarray
+        Tangential shift delta (m), shape of ``Q``.
     """
     P, a, mu, k = _common(P, a, mu, k)
     Qs, r = _amplitude(Q_star, P, mu)
@@ -420,6 +430,11 @@ def mindlin_reloading_displacement(Q, Q_star, *, P, a, mu, k):
         Turning-point amplitude (N), ``0 < Q* <= mu P``.
     P, a, mu, k : float
         Normal force (N), contact radius (m), friction coefficient, compliance (1/Pa).
+
+    Returns
+    -------
+    float or ndarray
+        Tangential shift delta (m), shape of ``Q``.
     """
     # Masing: the reloading branch is the unloading branch mirrored through the origin.
     return _out(-np.asarray(mindlin_unloading_displacement(-np.asarray(Q, dtype=float), Q_star, P=P, a=a, mu=mu, k=k)))
@@ -439,6 +454,11 @@ def mindlin_unloading_stick_ratio(Q, Q_star, *, P, mu):
         Amplitude (N).
     P, mu : float
         Normal force (N), friction coefficient.
+
+    Returns
+    -------
+    float or ndarray
+        c'/a (dimensionless, in (0, 1]), shape of ``Q``.
     """
     P = _pos("P", P)
     mu = _pos("mu", mu)
@@ -458,6 +478,11 @@ def mindlin_reloading_stick_ratio(Q, Q_star, *, P, mu):
         Amplitude (N).
     P, mu : float
         Normal force (N), friction coefficient.
+
+    Returns
+    -------
+    float or ndarray
+        c''/a (dimensionless, in (0, 1]), shape of ``Q``.
     """
     # Masing: the reloading branch is the unloading branch mirrored through the origin.
     return mindlin_unloading_stick_ratio(-np.asarray(Q, dtype=float), Q_star, P=P, mu=mu)
@@ -466,8 +491,21 @@ def mindlin_reloading_stick_ratio(Q, Q_star, *, P, mu):
 def mindlin_unloading_stiffness(Q, Q_star, *, P, a, mu, k):
     """Slope ``dQ/d delta = (8 a/k) (1 - (Q* - Q)/(2 mu P))^(1/3)`` of the unloading branch (N/m).
 
-    Parameters are those of :func:`mindlin_unloading_displacement`.  The slope equals
-    ``8 a/k`` (the virgin initial stiffness) at the turning point +Q*.
+    The slope equals ``8 a/k`` (the virgin initial stiffness) at the turning point +Q*.
+
+    Parameters
+    ----------
+    Q : float or array_like
+        Tangential force (N) in [-Q*, Q*].
+    Q_star : float
+        Turning-point amplitude (N), ``0 < Q* <= mu P``.
+    P, a, mu, k : float
+        Normal force (N), contact radius (m), friction coefficient, compliance (1/Pa).
+
+    Returns
+    -------
+    float or ndarray
+        Tangential stiffness dQ/d delta (N/m), shape of ``Q``.
     """
     P, a, mu, k = _common(P, a, mu, k)
     Qs, r = _amplitude(Q_star, P, mu)
@@ -478,7 +516,22 @@ def mindlin_unloading_stiffness(Q, Q_star, *, P, a, mu, k):
 def mindlin_reloading_stiffness(Q, Q_star, *, P, a, mu, k):
     """Slope ``dQ/d delta = (8 a/k) (1 - (Q* + Q)/(2 mu P))^(1/3)`` of the reloading branch (N/m).
 
-    Parameters are those of :func:`mindlin_reloading_displacement`.
+    The slope equals ``8 a/k`` at the turning point -Q* (Masing: the unloading branch mirrored
+    through the origin).
+
+    Parameters
+    ----------
+    Q : float or array_like
+        Tangential force (N) in [-Q*, Q*].
+    Q_star : float
+        Turning-point amplitude (N), ``0 < Q* <= mu P``.
+    P, a, mu, k : float
+        Normal force (N), contact radius (m), friction coefficient, compliance (1/Pa).
+
+    Returns
+    -------
+    float or ndarray
+        Tangential stiffness dQ/d delta (N/m), shape of ``Q``.
     """
     # Masing: the reloading branch is the unloading branch mirrored through the origin.
     return mindlin_unloading_stiffness(-np.asarray(Q, dtype=float), Q_star, P=P, a=a, mu=mu, k=k)
@@ -496,6 +549,11 @@ def mindlin_loop_energy(Q_star, *, P, a, mu, k) -> float:
         Amplitude (N), ``0 < Q* <= mu P``.
     P, a, mu, k : float
         Normal force (N), contact radius (m), friction coefficient, compliance (1/Pa).
+
+    Returns
+    -------
+    float
+        Dissipated energy per cycle W (J).
     """
     P, a, mu, k = _common(P, a, mu, k)
     _, r = _amplitude(Q_star, P, mu)

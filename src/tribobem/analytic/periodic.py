@@ -91,7 +91,24 @@ def _out(x):
 # ----------------------------------------------------------------------------------------------
 
 def westergaard_contact_fraction(mean_pressure, amplitude, wavelength, E_star):
-    """Contact fraction 2a/L of the Westergaard sinusoid: (2/pi) asin(sqrt(pbar/p*)), 1 beyond p*."""
+    """Contact fraction 2a/L of the Westergaard sinusoid: (2/pi) asin(sqrt(pbar/p*)), 1 beyond p*.
+
+    Parameters
+    ----------
+    mean_pressure : float or array_like
+        Mean (nominal) pressure pbar >= 0 (Pa): force per unit length / L.
+    amplitude : float
+        A in h = A (1 - cos(2 pi x/L)) (m): half the peak-to-valley height.
+    wavelength : float
+        L (m).
+    E_star : float
+        Composite plane-strain modulus (Pa).
+
+    Returns
+    -------
+    float or ndarray
+        2a/L (dimensionless, in [0, 1]), shape of ``mean_pressure``; p* = pi E* A / L.
+    """
     pb = _nonneg("mean_pressure", mean_pressure)
     ps = np.pi * _pos("E_star", E_star) * _pos("amplitude", amplitude) / _pos("wavelength", wavelength)
     ratio = np.clip(pb / ps, 0.0, 1.0)
@@ -99,7 +116,27 @@ def westergaard_contact_fraction(mean_pressure, amplitude, wavelength, E_star):
 
 
 def westergaard_pressure(x, mean_pressure, amplitude, wavelength, E_star):
-    """Westergaard pressure p(x) (Pa), x measured from a contact centre (minimum of h), periodic."""
+    """Westergaard pressure p(x) (Pa), x measured from a contact centre (minimum of h), periodic.
+
+    Parameters
+    ----------
+    x : array_like
+        Positions (m) from a contact centre; any x (the profile has period L).
+    mean_pressure : float
+        Mean (nominal) pressure pbar >= 0 (Pa).
+    amplitude : float
+        A in h = A (1 - cos(2 pi x/L)) (m).
+    wavelength : float
+        L (m).
+    E_star : float
+        Composite plane-strain modulus (Pa).
+
+    Returns
+    -------
+    float or ndarray
+        Pressure (Pa, compressive positive), shape of ``x``: ``pbar + p* cos(2 pi x/L)`` at
+        full contact (pbar >= p*), the partial-contact profile (0 outside |x| < a) below it.
+    """
     pb = float(_nonneg("mean_pressure", mean_pressure))
     L = float(_pos("wavelength", wavelength))
     ps = np.pi * float(_pos("E_star", E_star)) * float(_pos("amplitude", amplitude)) / L
@@ -154,7 +191,18 @@ class WestergaardSolution:
         return self.mean_pressure >= self.p_star
 
     def pressure(self, x):
-        """Pressure p(x) (Pa) at positions x (m) measured from a contact centre."""
+        """Pressure p(x) (Pa) at positions x (m) measured from a contact centre.
+
+        Parameters
+        ----------
+        x : array_like
+            Positions (m) from a contact centre.
+
+        Returns
+        -------
+        float or ndarray
+            :func:`westergaard_pressure` of this solution (Pa), shape of ``x``.
+        """
         return westergaard_pressure(x, self.mean_pressure, self.amplitude, self.wavelength,
                                     self.E_star)
 
@@ -200,7 +248,24 @@ def westergaard(mean_pressure, amplitude, wavelength, E_star) -> WestergaardSolu
 # ----------------------------------------------------------------------------------------------
 
 def bisinusoidal_full_contact_pressure(amplitude, wavelength, E_star):
-    """p* = sqrt(2) pi E* Delta / L for h = Delta cos(2 pi x/L) cos(2 pi y/L) (Pa)."""
+    """p* = sqrt(2) pi E* Delta / L for h = Delta cos(2 pi x/L) cos(2 pi y/L) (Pa).
+
+    The mean pressure above which the square bisinusoid is in full contact (JGH 1985).
+
+    Parameters
+    ----------
+    amplitude : float or array_like
+        Delta (m).
+    wavelength : float or array_like
+        L (m), the same in x and y.
+    E_star : float or array_like
+        Composite modulus (Pa).
+
+    Returns
+    -------
+    float or ndarray
+        p* (Pa), broadcast over the inputs.
+    """
     return _out(np.sqrt(2.0) * np.pi * np.asarray(E_star, float) * np.asarray(amplitude, float)
                 / np.asarray(wavelength, float))
 
@@ -275,6 +340,18 @@ def bisinusoidal_curvature_radius(amplitude, wavelength_x, wavelength_y):
     """Effective crest radius R_c = sqrt(Rx Ry) of h = S cos(2 pi x/lx) cos(2 pi y/ly) (m).
 
     Rx = lx^2/(4 pi^2 S), Ry = ly^2/(4 pi^2 S) (Paper A Eqs. 32-33), so R_c = lx ly/(4 pi^2 S).
+
+    Parameters
+    ----------
+    amplitude : float or array_like
+        S (m), > 0.
+    wavelength_x, wavelength_y : float or array_like
+        lx, ly (m).
+
+    Returns
+    -------
+    float or ndarray
+        R_c (m), broadcast over the inputs.
     """
     S = np.asarray(amplitude, float)
     lx = np.asarray(wavelength_x, float)
@@ -300,12 +377,46 @@ def bisinusoidal_pull_off_fit(E_star, R_c, dgamma, k, a=10.39, b=0.041, beta=0.0
         Wavelength ratio ly/lx in (0, 1].
     a, b, beta : float
         Fit constants (Paper A Table 2).
+
+    Returns
+    -------
+    float or ndarray
+        Pull-off force per cell (N, negative), broadcast over the inputs.
+
+    Raises
+    ------
+    InputError
+        ``k`` outside (0, 1].
     """
     return _out(-np.asarray(bisinusoidal_pull_off_fit_magnitude(E_star, R_c, dgamma, k, a, b, beta)))
 
 
 def bisinusoidal_pull_off_fit_magnitude(E_star, R_c, dgamma, k, a=10.39, b=0.041, beta=0.0):
-    """|Paper A Eq. 35 pull-off force| = a E*^beta R_c^(1+beta) dgamma^(1-beta) k^b (N, positive)."""
+    """|Paper A Eq. 35 pull-off force| = a E*^beta R_c^(1+beta) dgamma^(1-beta) k^b (N, positive).
+
+    Parameters
+    ----------
+    E_star : float or array_like
+        Composite modulus (Pa).
+    R_c : float or array_like
+        sqrt(Rx Ry) (m), see :func:`bisinusoidal_curvature_radius`.
+    dgamma : float or array_like
+        Work of adhesion (J/m^2).
+    k : float or array_like
+        Wavelength ratio ly/lx in (0, 1].
+    a, b, beta : float
+        Fit constants (Paper A Table 2: 10.39, 0.041, 0).
+
+    Returns
+    -------
+    float or ndarray
+        Magnitude of the pull-off force per lx x ly cell (N, positive).
+
+    Raises
+    ------
+    InputError
+        ``k`` outside (0, 1].
+    """
     E = np.asarray(E_star, float)
     R = np.asarray(R_c, float)
     g = np.asarray(dgamma, float)

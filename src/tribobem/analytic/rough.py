@@ -227,6 +227,20 @@ def persson_P_sigma(sigma, sigma_u, G):
     [exp(-(sigma - sigma_u)^2/(4G)) - exp(-(sigma + sigma_u)^2/(4G))] / (2 sqrt(pi G)), the
     solution of the diffusion equation 2.6 with P(0) = 0; its integral over sigma > 0 is the
     area fraction (2.9) and its first moment is sigma_u (force balance).
+
+    Parameters
+    ----------
+    sigma : float or array_like
+        Contact stress(es) sigma (Pa).
+    sigma_u : float
+        Nominal pressure (Pa), the initial condition P = delta(sigma - sigma_u) at zeta = 1.
+    G : float
+        Persson's G at the magnification of interest (Pa^2), > 0.
+
+    Returns
+    -------
+    float or ndarray
+        P(sigma) (1/Pa), shape of ``sigma``.
     """
     s = np.asarray(sigma, float)
     G = float(_pos("G", G))
@@ -244,6 +258,11 @@ def persson_contact_area(sigma_u, G):
         Nominal pressure (Pa).
     G : float or array_like
         Persson's G at the magnification of interest (Pa^2).
+
+    Returns
+    -------
+    float or ndarray
+        A/A0 (dimensionless, in [0, 1]), broadcast over the inputs.
     """
     return _out(erf(np.asarray(sigma_u, float) / (2.0 * np.sqrt(np.asarray(G, float)))))
 
@@ -278,6 +297,16 @@ def persson_self_affine_C0(rms, hurst, q0, qL, q1=None):
         Smallest wavevector (rad/m), <= q0.
     q1 : float, optional
         Short cut-off (rad/m); None means q1 -> inf, i.e. exactly Eq. 2.12.
+
+    Returns
+    -------
+    float
+        C0 (m^4), from h_rms^2 = 2 pi int q C(q) dq over [qL, q1].
+
+    Raises
+    ------
+    InputError
+        H outside (0, 1], a non-positive wavevector, qL > q0 or q1 < q0.
     """
     H, q0, qL, q1 = _self_affine_checks(hurst, q0, qL, q1)
     tail = 1.0 if q1 is None else 1.0 - (q0 / q1) ** (2.0 * H)
@@ -285,7 +314,33 @@ def persson_self_affine_C0(rms, hurst, q0, qL, q1=None):
 
 
 def persson_self_affine_psd(q, C0, hurst, q0, qL, q1=None):
-    """Self-affine PSD of Eq. 2.11: C0 on [qL, q0], C0 (q/q0)^(-2(H+1)) on (q0, q1], 0 outside (m^4)."""
+    """Self-affine PSD of Eq. 2.11: C0 on [qL, q0], C0 (q/q0)^(-2(H+1)) on (q0, q1], 0 outside (m^4).
+
+    Parameters
+    ----------
+    q : float or array_like
+        Wavevector magnitudes (rad/m).
+    C0 : float
+        Plateau of the PSD (m^4), e.g. from :func:`persson_self_affine_C0`.
+    hurst : float
+        Hurst exponent H in (0, 1].
+    q0 : float
+        Roll-off wavevector (rad/m).
+    qL : float
+        Smallest wavevector (rad/m), <= q0.
+    q1 : float, optional
+        Short cut-off (rad/m); None: no cut-off.
+
+    Returns
+    -------
+    float or ndarray
+        C(q) (m^4), shape of ``q``.
+
+    Raises
+    ------
+    InputError
+        As :func:`persson_self_affine_C0`.
+    """
     H, q0, qL, q1 = _self_affine_checks(hurst, q0, qL, q1)
     q = np.asarray(q, float)
     C = np.where(q <= q0, C0, C0 * (np.maximum(q, q0) / q0) ** (-2.0 * (H + 1.0)))
@@ -296,7 +351,36 @@ def persson_self_affine_psd(q, C0, hurst, q0, qL, q1=None):
 
 
 def persson_self_affine_G(E_star, C0, hurst, q0, qL, q_upper):
-    """Closed-form G (Pa^2) of the self-affine PSD integrated from qL to q_upper."""
+    """Closed-form G (Pa^2) of the self-affine PSD integrated from qL to q_upper.
+
+    The closed form of :func:`persson_G` for the PSD of :func:`persson_self_affine_psd`
+    (without short cut-off: ``q_upper`` plays the role of zeta qL).
+
+    Parameters
+    ----------
+    E_star : float
+        Composite modulus (Pa).
+    C0 : float
+        Plateau of the PSD (m^4), e.g. from :func:`persson_self_affine_C0`.
+    hurst : float
+        Hurst exponent H in (0, 1].
+    q0 : float
+        Roll-off wavevector (rad/m).
+    qL : float
+        Smallest wavevector (rad/m), <= q0.
+    q_upper : float or array_like
+        Upper limit of the integral (rad/m), >= qL.
+
+    Returns
+    -------
+    float or ndarray
+        G (Pa^2), shape of ``q_upper``.
+
+    Raises
+    ------
+    InputError
+        As :func:`persson_self_affine_C0`.
+    """
     H, q0, qL, _ = _self_affine_checks(hurst, q0, qL, None)
     qu = np.asarray(q_upper, float)
     low = np.minimum(qu, q0)
@@ -323,11 +407,30 @@ def persson_area_self_affine(mean_pressure, E_star, *, rms_slope=None, rms=None,
         Nominal pressure sigma_u (Pa).
     E_star : float
         Composite modulus (Pa).
+    rms_slope : float, optional
+        h'_rms (dimensionless) of the whole band; replaces every PSD parameter.
+    rms : float, optional
+        h_rms (m); C0 follows from :func:`persson_self_affine_C0`.
+    C0 : float, optional
+        PSD plateau (m^4), instead of ``rms``.
+    hurst : float, optional
+        Hurst exponent H in (0, 1].
+    q0, qL, q1 : float, optional
+        Roll-off, smallest and short cut-off wavevectors (rad/m); all three are required
+        without ``rms_slope``.
+    magnification : float, optional
+        zeta: G is integrated up to ``min(zeta qL, q1)``.
 
     Returns
     -------
     float or ndarray
-        erf(sigma_u / (2 sqrt G)).
+        erf(sigma_u / (2 sqrt G)), shape of ``mean_pressure``.
+
+    Raises
+    ------
+    InputError
+        Neither ``rms_slope`` nor the full set ``hurst, q0, qL, q1``; not exactly one of
+        ``rms`` and ``C0``; invalid PSD parameters.
     """
     Es = float(_pos("E_star", E_star))
     if rms_slope is not None:

@@ -167,6 +167,20 @@ def guduru_hertz_force(abar, alpha, beta):
     8 beta abar^3/3 + alpha beta (4 pi^2 abar^2 H0(2 pi abar) - 2 pi abar H1(2 pi abar)),
     identical to Paper A's 4 beta [2 abar^3/3 + alpha (4 pi^2 abar^3/3 + pi abar H1/2
     - pi^2 abar^2 H2)] through H0 + H2 = (2/z) H1 + 2z/(3 pi), without its cancellation.
+
+    Parameters
+    ----------
+    abar : float or array_like
+        Contact radii a/xi (dimensionless).
+    alpha : float
+        A R/xi^2 (dimensionless, see :func:`guduru_parameters`).
+    beta : float
+        xi^3 E*/(2 pi dgamma R^2) (dimensionless).
+
+    Returns
+    -------
+    float or ndarray
+        P1 (units of pi dgamma R), shape of ``abar``.
     """
     abar = np.asarray(abar, float)
     z = 2.0 * np.pi * abar
@@ -314,6 +328,11 @@ def guduru_jkr_curve(alpha, beta, abar) -> GuduruCurve:
         See :func:`guduru_curve`.
     abar : array_like
         a/xi.
+
+    Returns
+    -------
+    GuduruCurve
+        ``P`` and ``Delta`` at ``abar``, with ``m = 1`` (no cohesive zone) and ``lam = inf``.
     """
     alpha, beta, _ = _check(alpha, beta, 1.0)
     ab = np.asarray(abar, dtype=float)
@@ -327,6 +346,29 @@ def guduru_parameters(radius, amplitude, wavelength, dgamma, E_star, z0=None):
     """Dimensionless (alpha, beta, lam) of Paper A Eq. 30 (lam is None without z0).
 
     alpha = A R/xi^2, beta = xi^3 E*/(2 pi dgamma R^2), lam = Maugis parameter of the sphere.
+
+    Parameters
+    ----------
+    radius : float
+        Sphere radius R (m).
+    amplitude : float
+        Waviness amplitude A (m).
+    wavelength : float
+        Waviness wavelength xi (m).
+    dgamma : float
+        Work of adhesion (J/m^2).
+    E_star : float
+        Composite modulus (Pa).
+    z0 : float, optional
+        Equilibrium distance (m); needed for lam only.
+
+    Returns
+    -------
+    alpha, beta : float
+        Paper A Eq. 30 parameters (dimensionless).
+    lam : float or None
+        Maugis parameter of the sphere (:func:`~tribobem.analytic.adhesion.maugis_parameter`);
+        None without ``z0``.
     """
     R, A, xi, g, E = (float(v) for v in (radius, amplitude, wavelength, dgamma, E_star))
     alpha = A * R / xi**2

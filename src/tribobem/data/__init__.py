@@ -33,8 +33,14 @@ _SHIPPED = Path(__file__).resolve().parent / "topographies"
 
 
 def topography_dir() -> Path:
-    """The folder of measured topographies: ``$TRIBOBEM_DATA_DIR`` when set (and not empty),
-    else the copy shipped inside the package (``tribobem/data/topographies``)."""
+    """The folder of measured topographies.
+
+    Returns
+    -------
+    pathlib.Path
+        ``$TRIBOBEM_DATA_DIR`` when set (and not empty; ``~`` and variables expanded), else the
+        copy shipped inside the package (``tribobem/data/topographies``).
+    """
     env = os.environ.get(DATA_ENV, "").strip()
     if env:
         return Path(os.path.expandvars(os.path.expanduser(env)))

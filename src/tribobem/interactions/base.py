@@ -29,7 +29,21 @@ class Interaction(Protocol):
     floor: float
 
     def outside_stress(self, gap, xp):  # pragma: no cover - protocol
-        """Traction (Pa) on non-contact nodes as a function of their gap (m)."""
+        """Traction (Pa) on non-contact nodes as a function of their gap (m).
+
+        Parameters
+        ----------
+        gap : ndarray
+            Gap of the nodes (m), grid-shaped or its flat C-order ravel.
+        xp : module
+            Array namespace of ``gap`` (``numpy`` or ``cupy``), so that the law runs on the
+            solver's device.
+
+        Returns
+        -------
+        ndarray
+            Stress (Pa, negative = tensile), shape of ``gap``.
+        """
 
 
 class NoInteraction:
@@ -39,6 +53,21 @@ class NoInteraction:
     range = 0.0
 
     def outside_stress(self, gap, xp):
+        """Zero traction (Pa) on every non-contact node.
+
+        Parameters
+        ----------
+        gap : ndarray
+            Gap of the nodes (m), grid-shaped or its flat C-order ravel.
+        xp : module
+            Array namespace of ``gap`` (``numpy`` or ``cupy``), so that the law runs on the
+            solver's device.
+
+        Returns
+        -------
+        ndarray
+            Zeros, shape of ``gap``.
+        """
         return xp.zeros_like(gap)
 
     def __repr__(self) -> str:

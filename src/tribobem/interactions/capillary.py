@@ -151,6 +151,7 @@ class CapillaryInteraction:
 
     @property
     def shape(self) -> tuple[int, int]:
+        """Grid shape (nx, ny) of the island mask and the films."""
         return self.active.shape
 
     @property
@@ -202,7 +203,26 @@ class CapillaryInteraction:
         return self._cache[key]
 
     def outside_stress(self, gap, xp=np):
-        """Traction (Pa, negative = tensile) on non-contact nodes with gap ``gap`` (m)."""
+        """Traction (Pa, negative = tensile) on non-contact nodes with gap ``gap`` (m).
+
+        Parameters
+        ----------
+        gap : ndarray
+            Gap of every node (m), grid-shaped or its flat C-order ravel (the law depends on
+            the position, so all nodes are needed).
+        xp : module
+            Array namespace of ``gap`` (``numpy`` or ``cupy``).
+
+        Returns
+        -------
+        ndarray
+            Stress (Pa), shape of ``gap``.
+
+        Raises
+        ------
+        InputError
+            ``gap`` does not have the island mask's number of nodes.
+        """
         g = self._flat(xp.asarray(gap, dtype=float))
         s = self._beyond(g, xp)
         ad = self.adhesion
@@ -217,9 +237,23 @@ class CapillaryInteraction:
         return s.reshape(gap.shape)
 
     def outside_branch(self, gap, xp=np):
-        """Which piece of the law a node is on (True: Dugdale zone behind a step); the law is
-        continuous in g within a piece, so the normal solver needs no restart while no node
-        changes piece.  Nodes with an edge ramp have a continuous law: one piece."""
+        """Which piece of the law a node is on (True: Dugdale zone behind a step).
+
+        The law is continuous in g within a piece, so the normal solver needs no restart while
+        no node changes piece.  Nodes with an edge ramp have a continuous law: one piece.
+
+        Parameters
+        ----------
+        gap : ndarray
+            Gap of every node (m), grid-shaped or its flat C-order ravel.
+        xp : module
+            Array namespace of ``gap`` (``numpy`` or ``cupy``).
+
+        Returns
+        -------
+        ndarray of bool
+            Shape of ``gap``; all False without adhesion.
+        """
         g = self._flat(xp.asarray(gap, dtype=float))
         if self.adhesion is None:
             return xp.zeros(gap.shape, dtype=bool)

@@ -37,7 +37,20 @@ class DugdaleAdhesion:
 
     @classmethod
     def from_stress(cls, sigma0: float, h0: float) -> "DugdaleAdhesion":
-        """Build from the Dugdale stress (Pa) and range (m) directly."""
+        """Build from the Dugdale stress (Pa) and range (m) directly.
+
+        Parameters
+        ----------
+        sigma0 : float
+            Dugdale stress (Pa, > 0).
+        h0 : float
+            Range of the cohesive zone (m, > 0).
+
+        Returns
+        -------
+        DugdaleAdhesion
+            dgamma = sigma0 h0 and z0 = 16 h0 / (9 sqrt3).
+        """
         return cls(sigma0 * h0, h0 * 16.0 / (9.0 * math.sqrt(3.0)))
 
     @property
@@ -52,27 +65,85 @@ class DugdaleAdhesion:
 
     @property
     def range(self) -> float:
+        """Range of the law (m): h0, beyond which the stress is 0."""
         return self.h0
 
     @property
     def floor(self) -> float:
+        """Lowest contact pressure (Pa): -sigma0, the law's limit at zero gap."""
         return -self.sigma0
 
     def outside_stress(self, gap, xp):
-        """-sigma0 where gap < h0, else 0 (Pa)."""
+        """-sigma0 where gap < h0, else 0 (Pa).
+
+        Parameters
+        ----------
+        gap : ndarray
+            Gap of the non-contact nodes (m), any shape.
+        xp : module
+            Array namespace of ``gap`` (``numpy`` or ``cupy``).
+
+        Returns
+        -------
+        ndarray
+            Stress (Pa, negative = tensile), shape of ``gap``.
+        """
         return xp.where(gap < self.h0, -self.sigma0, 0.0)
 
     def tabor_parameter(self, radius: float, effective_modulus: float) -> float:
-        """mu_T = (R dgamma^2 / (E*^2 z0^3))^(1/3) (SPEC 5 corrects Paper A Eq. 1)."""
+        """mu_T = (R dgamma^2 / (E*^2 z0^3))^(1/3) (SPEC 5 corrects Paper A Eq. 1).
+
+        Parameters
+        ----------
+        radius : float
+            Composite sphere radius R (m).
+        effective_modulus : float
+            Composite modulus E* (Pa).
+
+        Returns
+        -------
+        float
+            Tabor parameter (dimensionless).
+        """
         return (radius * self.work_of_adhesion**2 / (effective_modulus**2 * self.z0**3)) ** (1.0 / 3.0)
 
     def maugis_parameter(self, radius: float, effective_modulus: float) -> float:
-        """lambda = 2 sigma0 (9 R / (16 pi dgamma E*^2))^(1/3) (about 1.16 mu_T)."""
+        """lambda = 2 sigma0 (9 R / (16 pi dgamma E*^2))^(1/3) (about 1.16 mu_T).
+
+        Parameters
+        ----------
+        radius : float
+            Composite sphere radius R (m).
+        effective_modulus : float
+            Composite modulus E* (Pa).
+
+        Returns
+        -------
+        float
+            Maugis parameter (dimensionless).
+        """
         return 2.0 * self.sigma0 * (9.0 * radius / (16.0 * math.pi * self.work_of_adhesion * effective_modulus**2)) ** (1.0 / 3.0)
 
     @classmethod
     def from_tabor(cls, tabor: float, radius: float, effective_modulus: float, z0: float) -> "DugdaleAdhesion":
-        """The work of adhesion that gives Tabor parameter ``tabor`` for this sphere."""
+        """The work of adhesion that gives Tabor parameter ``tabor`` for this sphere.
+
+        Parameters
+        ----------
+        tabor : float
+            Target Tabor parameter mu_T (dimensionless).
+        radius : float
+            Composite sphere radius R (m).
+        effective_modulus : float
+            Composite modulus E* (Pa).
+        z0 : float
+            Equilibrium separation (m).
+
+        Returns
+        -------
+        DugdaleAdhesion
+            dgamma = sqrt(mu_T^3 E*^2 z0^3 / R) (J/m^2) and ``z0``.
+        """
         dgamma = math.sqrt(tabor**3 * effective_modulus**2 * z0**3 / radius)
         return cls(dgamma, z0)
 
@@ -82,6 +153,22 @@ class DugdaleAdhesion:
 
         lambda = 2 (16/(9 sqrt3)) (dgamma/z0) (9R/(16 pi dgamma E*^2))^(1/3) is
         proportional to dgamma^(2/3), so dgamma follows in closed form.
+
+        Parameters
+        ----------
+        lam : float
+            Target Maugis parameter lambda (dimensionless).
+        radius : float
+            Composite sphere radius R (m).
+        effective_modulus : float
+            Composite modulus E* (Pa).
+        z0 : float
+            Equilibrium separation (m).
+
+        Returns
+        -------
+        DugdaleAdhesion
+            The law with that dgamma (J/m^2) and ``z0``.
         """
         k = 2.0 * 16.0 / (9.0 * math.sqrt(3.0) * z0) * (9.0 * radius / (16.0 * math.pi * effective_modulus**2)) ** (1.0 / 3.0)
         return cls((lam / k) ** 1.5, z0)

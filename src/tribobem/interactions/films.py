@@ -167,6 +167,11 @@ def levelling_time(wavelength: float, thickness: float, water: Water = _DEFAULT_
         eta in Pa s.
     disjoining_slope : float
         dPi/de at e0 in Pa/m (0 for the thesis' Eq. 8 without disjoining pressure).
+
+    Returns
+    -------
+    float
+        The relaxation time 1 / rate (s).
     """
     k = 2.0 * math.pi / wavelength
     rate = thickness**3 / (3.0 * viscosity) * k * k * (water.surface_tension * k * k + abs(disjoining_slope))
@@ -287,7 +292,7 @@ def film_thickness(
         thin_film without ``time``: the largest time in units of ``tau_slow``, the linear
         relaxation time (:func:`levelling_time`) of the longest resolved wavelength (the
         domain side; twice it on a mirrored free-boundary grid) about the uniform film.
-        Default 20: that mode has decayed by e^-20 in linear theory.
+        Default 100: that mode has decayed by e^-100 in linear theory.
     steady_tolerance : float
         thin_film without ``time``: stop (converged) once the relative rate of change
         ``max|de/dt| tau_slow / mean(e)`` (the change still to come, in units of the film
@@ -392,7 +397,8 @@ def film_thickness(
     if system not in SYSTEMS:
         raise InputError("humidity.film_system", f"must be 'open' or 'closed', got {system!r}")
     if mode == "thin_film" and system == "open":
-        raise InputError("humidity.film_system", "the thin-film equation conserves the film volume: it is a closed system (use system='closed' or None)")
+        raise InputError("humidity.film_system", "the thin-film equation conserves the film volume: it is a closed "
+                                                 "system (use system='closed' or None)")
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
         raise InputError("solver.tolerance", f"must be a finite number > 0, got {tol!r}")
     if mean_thickness is not None:
@@ -534,7 +540,8 @@ def _equilibrium(sp: _Spectral, hs, iso: Isotherm, water: Water, rh, system, tar
         rmax = float(np.abs(fp).max())
         while rmax > tol:
             if budget <= 0:
-                return e, f, d, rmax, False, f"no convergence in {max_iter} Newton iterations (residual {rmax:.3g} > tol {tol:.3g})"
+                return (e, f, d, rmax, False,
+                        f"no convergence in {max_iter} Newton iterations (residual {rmax:.3g} > tol {tol:.3g})")
             budget -= 1
             state["it"] += 1
             free = ((e > floor) | (f <= 0.0)).astype(float)

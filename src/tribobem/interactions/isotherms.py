@@ -183,6 +183,12 @@ class Isotherm(ABC):
         derivative : bool
             Also return ``d ln RH_iso / de`` (1/m, >= 0; +inf at e = 0).
 
+        Returns
+        -------
+        float or ndarray
+            ``ln RH_iso(e)`` (dimensionless, <= 0), shape of ``e``; with ``derivative`` the
+            pair ``(ln RH_iso, d ln RH_iso / de)``.
+
         Raises
         ------
         InputError
@@ -226,7 +232,27 @@ class Isotherm(ABC):
         return _out(-water.pressure_scale * np.asarray(self.log_relative_humidity(e)))
 
     def disjoining_pressure_derivative(self, e, water: Water = _DEFAULT_WATER):
-        """dPi/de in Pa/m (<= 0: Pi decreases with the thickness)."""
+        """dPi/de in Pa/m (<= 0: Pi decreases with the thickness).
+
+        The film solvers need it for the Newton Jacobian ``gamma k^2 - Pi'(e)``.
+
+        Parameters
+        ----------
+        e : float or array_like
+            Film thickness in m, >= 0.
+        water : Water
+            Supplies R_g T / V.
+
+        Returns
+        -------
+        float or ndarray
+            dPi/de (Pa/m), shape of ``e``; -inf at e = 0.
+
+        Raises
+        ------
+        InputError
+            A negative or NaN thickness.
+        """
         _, dg = self.log_relative_humidity(e, derivative=True)
         return _out(-water.pressure_scale * np.asarray(dg))
 
@@ -256,7 +282,8 @@ class TableIsotherm(Isotherm):
     *Interpolation.* A PCHIP (Fritsch-Carlson, :class:`scipy.interpolate.PchipInterpolator`)
     of RH against thickness: monotone, C1, no overshoot, and it passes through every table
     point; at the last point (RH < 1) the slope is the secant of the last interval instead of
-    the one-sided PCHIP formula (which gives 0 for the SiO2 table), still monotone. The disjoining pressure (evaluated on every node at every solver iteration) is
+    the one-sided PCHIP formula (which gives 0 for the SiO2 table), still monotone. The disjoining
+    pressure (evaluated on every node at every solver iteration) is
     then a direct evaluation, and :meth:`thickness` is its exact numerical inverse
     (bracketed bisection on the cubic of the table interval, to round-off), so
     ``relative_humidity(thickness(rh)) == rh``. A table that does not start at RH = 0 gets the
@@ -264,7 +291,8 @@ class TableIsotherm(Isotherm):
 
     *Above the last point* (RH_n < 1, e_n): a Frenkel-Halsey-Hill tail
     ``ln RH = ln RH_n (e_n / e)^s`` matched in value and slope to the interpolant at e_n
-    (``s = e_n RH'(e_n) / (RH_n |ln RH_n|)`` with RH'(e_n) the last secant). It is monotone, finite for every RH < 1 and diverges at RH = 1
+    (``s = e_n RH'(e_n) / (RH_n |ln RH_n|)`` with RH'(e_n) the last secant). It is monotone, finite
+    for every RH < 1 and diverges at RH = 1
     (``thickness(1) = inf``: bulk water), like a multilayer film. For the shipped SiO2 table
     s = 4.45: 3.75 nm at RH 0.99, 6.3 nm at 0.999. A table that ends at RH = 1 has a finite
     saturated film; beyond it RH_iso = 1 and Pi = 0 (bulk water).
@@ -298,7 +326,8 @@ class TableIsotherm(Isotherm):
             raise InputError(f"{field}.thickness", f"the film at RH = 0 must be 0 m, got {t[0]!r}")
         if r[0] > 0.0:
             if t[0] == 0.0:
-                raise InputError(f"{field}.thickness", f"a zero film at RH = {r[0]} > 0 cannot be inverted; start the table at RH = 0")
+                raise InputError(f"{field}.thickness", f"a zero film at RH = {r[0]} > 0 cannot be inverted; "
+                                                       "start the table at RH = 0")
             r = np.concatenate([[0.0], r])
             t = np.concatenate([[0.0], t])
         self.name = name or "table"
@@ -334,7 +363,8 @@ class TableIsotherm(Isotherm):
         if np.any(tail):
             lr = np.log(rh[tail])
             with np.errstate(divide="ignore", over="ignore"):
-                out[tail] = np.where(lr < 0.0, self._e_end * (math.log(self._rh_end) / np.where(lr < 0.0, lr, -1.0)) ** (1.0 / self.tail_exponent), np.inf)
+                ratio = math.log(self._rh_end) / np.where(lr < 0.0, lr, -1.0)
+                out[tail] = np.where(lr < 0.0, self._e_end * ratio ** (1.0 / self.tail_exponent), np.inf)
         return out
 
     def _invert(self, rh: np.ndarray) -> np.ndarray:
@@ -450,10 +480,12 @@ class DryIsotherm(Isotherm):
 
     @property
     def dry(self) -> bool:
+        """Always True: the body adsorbs no water."""
         return True
 
     @property
     def floor(self) -> float:
+        """0 m: there is no film, so no floor thickness."""
         return 0.0
 
     def __repr__(self) -> str:
@@ -522,7 +554,8 @@ def isotherm_from_spec(spec, field: str = "film.isotherm") -> Isotherm:
             return DryIsotherm()
         if key in _NAMED:
             return _NAMED[key]
-        raise InputError(field, f"unknown isotherm {spec!r}; use 'SiO2', 'Si', 'dry', a table {{rh, thickness}} or {{fhh = {{...}}}}")
+        raise InputError(field, f"unknown isotherm {spec!r}; use 'SiO2', 'Si', 'dry', a table {{rh, thickness}} "
+                                "or {fhh = {...}}")
     if isinstance(spec, dict):
         keys = set(spec)
         if keys == {"isotherm"}:

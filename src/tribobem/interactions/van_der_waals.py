@@ -128,6 +128,16 @@ def water_filled_stress(gap, a1w2: float, cutoff: float = 0.0, xp=np):
         Smallest separation used (m).
     xp : module
         Array module.
+
+    Returns
+    -------
+    ndarray
+        Stress (Pa; tensile, i.e. negative, for A_1w2 > 0), shape of ``gap``.
+
+    Raises
+    ------
+    InputError
+        A negative or non-finite ``cutoff``.
     """
     d = xp.maximum(gap, _cutoff(cutoff))
     return (-a1w2 / (6.0 * math.pi)) / (d * d * d)
@@ -157,6 +167,16 @@ def air_gap_stress(gap, film1, film2, hamaker1: float, hamaker2: float, water_ha
         Smallest air gap used (m); with 0 the air gap must be positive.
     xp : module
         Array module.
+
+    Returns
+    -------
+    ndarray
+        Stress (Pa, negative = tensile), broadcast shape of ``gap`` and the films.
+
+    Raises
+    ------
+    InputError
+        A negative or non-finite Hamaker constant or ``cutoff``.
     """
     c_ww, c_1w, c_w2, c_12 = _air_coefficients(_hamaker(hamaker1, "hamaker1"), _hamaker(hamaker2, "hamaker2"),
                                                _hamaker(water_hamaker, "water_hamaker"))
@@ -204,9 +224,37 @@ class VanDerWaals:
         return combine_hamaker(self.hamaker1, self.hamaker2, self.water_hamaker)
 
     def water_filled_stress(self, gap, xp=np):
-        """-A_1w2 / (6 pi max(g, cutoff)^3) (Pa)."""
+        """-A_1w2 / (6 pi max(g, cutoff)^3) (Pa), with this pair's constants.
+
+        Parameters
+        ----------
+        gap : array_like
+            Gap g (m).
+        xp : module
+            Array module.
+
+        Returns
+        -------
+        ndarray
+            Stress (Pa), shape of ``gap``; see :func:`water_filled_stress`.
+        """
         return water_filled_stress(gap, self.water_filled, self.cutoff, xp)
 
     def air_gap_stress(self, gap, film1, film2, xp=np):
-        """Paper B Eq. 12 (signs corrected) with e_a = max(g - e1 - e2, cutoff) (Pa)."""
+        """Paper B Eq. 12 (signs corrected) with e_a = max(g - e1 - e2, cutoff) (Pa).
+
+        Parameters
+        ----------
+        gap : array_like
+            Gap g between the solid surfaces (m).
+        film1, film2 : float or array_like
+            Film thicknesses e1, e2 (m).
+        xp : module
+            Array module.
+
+        Returns
+        -------
+        ndarray
+            Stress (Pa), see :func:`air_gap_stress`.
+        """
         return air_gap_stress(gap, film1, film2, self.hamaker1, self.hamaker2, self.water_hamaker, self.cutoff, xp)

@@ -150,7 +150,18 @@ class Water:
 
         The same number as :meth:`capillary_pressure`: the chemical potential of water,
         R_g T ln RH, per molar volume. It is the right side of the film equilibrium
-        ``-gamma lap(h_w) - Pi(e) = (R_g T / V) ln RH`` (SPEC 6).
+        ``-gamma lap(h_w) - Pi(e) = (R_g T / V) ln RH`` (SPEC 6).  It has its own name because
+        the film solvers use it as a chemical potential, not as a meniscus pressure.
+
+        Parameters
+        ----------
+        rh : float or array_like
+            Relative humidity in (0, 1].
+
+        Returns
+        -------
+        float or ndarray
+            Pressure in Pa (<= 0, 0 at RH = 1).
         """
         return self.capillary_pressure(rh)
 
@@ -173,11 +184,28 @@ class Water:
         with np.errstate(divide="ignore"):
             # ln(1) = +0.0, so 1/(-0.0) would give +inf: make the RH = 1 limit -inf explicitly
             # (r_k -> -inf as RH -> 1 from below).
-            r = np.where(log_rh < 0.0, self.surface_tension / (self.pressure_scale * np.where(log_rh < 0.0, log_rh, -1.0)), -np.inf)
+            safe = np.where(log_rh < 0.0, log_rh, -1.0)
+            r = np.where(log_rh < 0.0, self.surface_tension / (self.pressure_scale * safe), -np.inf)
         return float(r) if np.ndim(r) == 0 else r
 
     def relative_humidity(self, kelvin_radius):
-        """The RH whose Kelvin radius is ``kelvin_radius`` (m, < 0; -inf gives 1), the inverse of :meth:`kelvin_radius`."""
+        """The RH whose Kelvin radius is ``kelvin_radius``, the inverse of :meth:`kelvin_radius`.
+
+        Parameters
+        ----------
+        kelvin_radius : float or array_like
+            r_k (m, < 0; ``-inf`` gives RH = 1).
+
+        Returns
+        -------
+        float or ndarray
+            RH = exp(gamma V / (R_g T r_k)) in (0, 1].
+
+        Raises
+        ------
+        InputError
+            A NaN or non-negative Kelvin radius.
+        """
         r = np.asarray(kelvin_radius, dtype=float)
         if np.any(np.isnan(r)) or np.any(r >= 0.0):
             raise InputError("kelvin_radius", f"must be < 0 m (concave meniscus) or -inf, got {kelvin_radius!r}")

@@ -79,7 +79,19 @@ def sigint_deferred():
 
 def temp_path(path) -> str:
     """A new empty temporary file next to ``path`` (same folder, so ``os.replace`` is atomic),
-    with ordinary permissions."""
+    with ordinary permissions.
+
+    Parameters
+    ----------
+    path : path-like
+        The target file; its folder is created if needed.
+
+    Returns
+    -------
+    str
+        Path of the temporary file ``.NAME.XXXX.tmp`` (mode 0666 minus the umask, not
+        mkstemp's 0600, so that the file keeps ordinary permissions once it replaces the target).
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = None
@@ -165,7 +177,18 @@ def staged():
 
 def staged_source(path) -> Path:
     """Where the content of ``path`` is now: its temporary file while a :func:`staged` block
-    holds it back, else ``path`` itself."""
+    holds it back, else ``path`` itself.
+
+    Parameters
+    ----------
+    path : path-like
+        A target file.
+
+    Returns
+    -------
+    pathlib.Path
+        The file to read.
+    """
     stage = _STAGE.get()
     if stage is not None:
         tmp = stage.pending.get(_key(path))
@@ -178,7 +201,21 @@ def staged_source(path) -> Path:
 def atomic_path(path):
     """Yield a temporary path next to ``path``; when the block has written it, it is synced
     to disk and replaces ``path`` atomically (or, inside :func:`staged`, at the end of that
-    block); on an exception it is removed."""
+    block); on an exception it is removed.
+
+    A reader therefore sees either the old file or the complete new one, never a partial
+    write (an interrupted run leaves its previous outputs intact).
+
+    Parameters
+    ----------
+    path : path-like
+        The target file.
+
+    Yields
+    ------
+    pathlib.Path
+        The temporary file to write.
+    """
     path = Path(path)
     tmp = temp_path(path)
     try:
@@ -197,7 +234,20 @@ def atomic_path(path):
 
 def atomic_write_bytes(path, data: bytes) -> Path:
     """Write ``data`` to ``path`` via a temporary file in the same folder, fsync and
-    ``os.replace``."""
+    ``os.replace`` (:func:`atomic_path`).
+
+    Parameters
+    ----------
+    path : path-like
+        The target file.
+    data : bytes
+        The content.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     with atomic_path(path) as tmp:
         with open(tmp, "wb") as fh:
             fh.write(data)
@@ -205,13 +255,38 @@ def atomic_write_bytes(path, data: bytes) -> Path:
 
 
 def atomic_write_text(path, text: str) -> Path:
-    """UTF-8 text version of :func:`atomic_write_bytes` (no newline translation)."""
+    """UTF-8 text version of :func:`atomic_write_bytes` (no newline translation).
+
+    Parameters
+    ----------
+    path : path-like
+        The target file.
+    text : str
+        The content, written as UTF-8 as is (the same bytes on every platform).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     return atomic_write_bytes(path, text.encode("utf-8"))
 
 
 def file_state(path):
-    """``(inode, mtime_ns, size)`` of ``path``, None when it does not exist: two equal states
-    mean the file was not replaced in between (``os.replace`` brings a new inode)."""
+    """``(inode, mtime_ns, size)`` of ``path``, None when it does not exist.
+
+    Two equal states mean the file was not replaced in between (``os.replace`` brings a new
+    inode).
+
+    Parameters
+    ----------
+    path : path-like
+        Any file.
+
+    Returns
+    -------
+    tuple of int or None
+    """
     try:
         st = os.stat(path)
     except OSError:
@@ -224,7 +299,18 @@ _PAUSE_COUNTS: dict[str, int] = {}
 
 
 def pause_hook(kind: str, path=None) -> None:
-    """Tests only: pause where ``TRIBOBEM_TEST_PAUSE`` asks (see the module docstring)."""
+    """Tests only: pause where ``TRIBOBEM_TEST_PAUSE`` asks (see the module docstring).
+
+    The pause gives a test the moment to send a real SIGINT at a known point of a write or
+    a solve.  Without the variable it returns at once.
+
+    Parameters
+    ----------
+    kind : str
+        The pause point, ``"write"`` or ``"solve"``.
+    path : path-like, optional
+        The file being written, matched against the entry's pattern.
+    """
     spec = os.environ.get("TRIBOBEM_TEST_PAUSE")
     if not spec:
         return

@@ -38,12 +38,32 @@ def _rows(summary: dict | None) -> list[dict]:
 
 
 def is_capillary(summary: dict | None) -> bool:
-    """True for a run whose steps are RH steps with capillary forces (either capillary kind)."""
+    """True for a run whose steps are RH steps with capillary forces (either capillary kind).
+
+    Parameters
+    ----------
+    summary : dict or None
+        A run's summary (:func:`~tribobem.output.summary.read_summary`).
+
+    Returns
+    -------
+    bool
+    """
     return any("capillary_force" in r for r in _rows(summary))
 
 
 def is_humid_pulloff(summary: dict | None) -> bool:
-    """True for a humid pull-off run (kind pulloff with one pull-off force per RH)."""
+    """True for a humid pull-off run (kind pulloff with one pull-off force per RH).
+
+    Parameters
+    ----------
+    summary : dict or None
+        A run's summary (:func:`~tribobem.output.summary.read_summary`).
+
+    Returns
+    -------
+    bool
+    """
     s = summary or {}
     return s.get("kind") == "pulloff" and isinstance(s.get("pull_off_force"), list)
 
@@ -55,7 +75,22 @@ def _rh_of(ds) -> np.ndarray | None:
 
 
 def capillary_step(ds, summary: dict | None) -> int | None:
-    """The dataset step of the most tensile capillary force (the peak of Paper B Fig. 13)."""
+    """The dataset step of the most tensile capillary force (the peak of Paper B Fig. 13).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The run's fields (:func:`~tribobem.output.fields.read_fields`), with an ``rh``
+        coordinate along ``step``.
+    summary : dict or None
+        A run's summary (:func:`~tribobem.output.summary.read_summary`).
+
+    Returns
+    -------
+    int or None
+        Index along ``step`` (matched to the summary's steps by RH); the last step when no
+        capillary force is known; None without RH steps.
+    """
     rh = _rh_of(ds)
     if rh is None:
         return None
@@ -69,7 +104,23 @@ def capillary_step(ds, summary: dict | None) -> int | None:
 
 
 def chosen_steps(ds, summary: dict | None, at_most: int = 4) -> list[int]:
-    """Dataset steps to map: first, peak capillary force, last, and one in between (sorted by RH)."""
+    """Dataset steps to map: first, peak capillary force, last, and one in between (sorted by RH).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The run's fields (:func:`~tribobem.output.fields.read_fields`), with an ``rh``
+        coordinate along ``step``.
+    summary : dict or None
+        A run's summary (:func:`~tribobem.output.summary.read_summary`).
+    at_most : int
+        Most steps returned (the lowest RH first).
+
+    Returns
+    -------
+    list of int
+        Distinct indices along ``step``, in increasing RH; empty without RH steps.
+    """
     rh = _rh_of(ds)
     if rh is None:
         return []
@@ -91,7 +142,21 @@ def chosen_steps(ds, summary: dict | None, at_most: int = 4) -> list[int]:
 # ----------------------------------------------------------------------------- force components
 def capillary_forces_figure(summary: dict, path) -> Path | None:
     """F_cap, F_ss, F_ws and their sum against RH (left); contact and meniscus areas and the
-    active island count (right).  None with fewer than one RH step."""
+    active island count (right).
+
+    Parameters
+    ----------
+    summary : dict
+        A ``capillary`` run's summary.
+    path : path-like
+        The PNG file to write.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The written file; None without an RH step with a capillary force, or for a humid
+        pull-off run (:func:`pulloff_rh_figure` draws that one).
+    """
     rows = [r for r in _rows(summary) if r.get("capillary_force") is not None]
     if not rows or is_humid_pulloff(summary):
         return None
@@ -137,7 +202,20 @@ def capillary_forces_figure(summary: dict, path) -> Path | None:
 
 def pulloff_rh_figure(summary: dict, path) -> Path | None:
     """Humid pull-off against RH (left; the capillary part at pull-off dashed) and the unloading
-    curves F(delta) it comes from (right)."""
+    curves F(delta) it comes from (right).
+
+    Parameters
+    ----------
+    summary : dict
+        A humid pull-off run's summary (``steps`` per RH, ``unloading_curves``).
+    path : path-like
+        The PNG file to write.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The written file; None for another kind of run or without RH steps.
+    """
     if not is_humid_pulloff(summary):
         return None
     rows = sorted(_rows(summary), key=lambda r: r["rh"])
@@ -210,8 +288,26 @@ def _panel_grid(n: int):
 
 
 def meniscus_figure(ds, steps, path, h0: float | None = None) -> Path | None:
-    """Meniscus/island maps at the dataset ``steps`` (one panel each, common legend); ``h0``:
-    the Dugdale range (m) when the run has one (its zone is drawn over the meniscus)."""
+    """Meniscus/island maps at the dataset ``steps`` (one panel each, common legend).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The run's fields (:func:`~tribobem.output.fields.read_fields`), with an ``rh``
+        coordinate along ``step``.
+    steps : sequence of int
+        Indices along ``step`` (e.g. :func:`chosen_steps`).
+    path : path-like
+        The PNG file to write.
+    h0 : float, optional
+        The Dugdale range (m) when the run has one: its zone is drawn over the meniscus (the
+        solver's precedence, SPEC 6).
+
+    Returns
+    -------
+    pathlib.Path or None
+        The written file; None without steps or without the meniscus fields.
+    """
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
@@ -245,7 +341,24 @@ def meniscus_figure(ds, steps, path, h0: float | None = None) -> Path | None:
 def films_figure(ds, steps, path) -> Path | None:
     """Film thickness maps of the bodies that carry a film, at the dataset ``steps``
     (rows: bodies; columns: RH; one colour scale per panel: the levelling is a small
-    modulation of a mean thickness that grows with RH)."""
+    modulation of a mean thickness that grows with RH).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The run's fields (:func:`~tribobem.output.fields.read_fields`), with an ``rh``
+        coordinate along ``step``.
+    steps : sequence of int
+        Indices along ``step``.
+    path : path-like
+        The PNG file to write.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The written file; None when no body has a film that varies over the grid (a dry
+        body, a smooth flat or uniform levelling: no map worth showing).
+    """
     if ds is None or not steps:
         return None
     def varies(b):  # a uniform film (a dry body, a smooth flat, levelling "uniform") has no map worth showing
@@ -275,7 +388,25 @@ def films_figure(ds, steps, path) -> Path | None:
 
 
 def capillary_figures(ds, summary: dict, outdir) -> dict:
-    """The capillary figures that apply (name -> Path), in :data:`FIGURE_NAMES` order."""
+    """The capillary figures that apply (name -> Path), in :data:`FIGURE_NAMES` order.
+
+    A figure that fails on unexpected data is left out instead of failing the run.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The run's fields (:func:`~tribobem.output.fields.read_fields`), with an ``rh``
+        coordinate along ``step``.
+    summary : dict
+        The run's summary.
+    outdir : path-like
+        Folder of the PNG files (``<name>.png``).
+
+    Returns
+    -------
+    dict
+        Figure name -> path of the written file.
+    """
     outdir = Path(outdir)
     out = {}
     safe = (KeyError, TypeError, ValueError, IndexError)

@@ -100,7 +100,19 @@ def cohesive_cells(res) -> float:
     """Estimated width of the cohesive zone in cells: adhesive area / outer perimeter / dx
     (for a ring from a to c: (c^2 - a^2)/(2c), i.e. c - a for a thin ring).
 
-    inf without cohesive nodes and without contact; 0 with contact but no cohesive node.
+    An area-over-perimeter width works for any zone shape (rings, several contact spots),
+    where a radius c - a would need a round contact.
+
+    Parameters
+    ----------
+    res : NormalResult
+        A solved normal state (``adhesive``, ``contact``, ``grid``).
+
+    Returns
+    -------
+    float
+        Width in cells (dimensionless); inf without cohesive nodes and without contact, 0
+        with contact but no cohesive node.
     """
     adh = np.asarray(res.adhesive, bool)
     con = np.asarray(res.contact, bool)
@@ -124,7 +136,17 @@ def cohesive_gap_step(res) -> float:
     pairs of a contact node and a node outside the zone (g >= h0): where the zone is resolved
     the gap climbs from 0 to h0 over several cells and every such step is a fraction of h0;
     where a contact node borders a node beyond the range, the gap jumps over the whole range in
-    one cell.  NaN when the state has neither.
+    one cell.
+
+    Parameters
+    ----------
+    res : NormalResult
+        A solved normal state (``gap``, ``contact``, ``adhesive``).
+
+    Returns
+    -------
+    float
+        The largest step (m); NaN when the state has neither kind of pair.
     """
     g = np.asarray(res.gap, float)
     con = np.asarray(res.contact, bool)
@@ -149,7 +171,21 @@ def patch_width(mask, dx: float, dy: float | None = None) -> float:
     2 x 2): twice the largest distance of a sub-cell centre to the nearest sub-cell outside, so
     that a k x k block of cells is exactly k cells wide, a disc of D cells about D, a ring of w
     cells about w.  Patches 12 or more cells wide are measured on the cells alone (2 max(distance)
-    - half a cell: within about a cell).  0 for an empty mask.
+    - half a cell: within about a cell).
+
+    Parameters
+    ----------
+    mask : array_like of bool
+        The patches, grid-shaped.
+    dx : float
+        Cell size along x (m).
+    dy : float, optional
+        Cell size along y (m); default ``dx``.
+
+    Returns
+    -------
+    float
+        Width (m); 0 for an empty mask.
     """
     from scipy.ndimage import distance_transform_edt
 
@@ -171,7 +207,18 @@ def patch_width(mask, dx: float, dy: float | None = None) -> float:
 
 
 def stick_zone_width(tres) -> float:
-    """Width (m) across the widest stick patch of a tangential state (:func:`patch_width`)."""
+    """Width (m) across the widest stick patch of a tangential state (:func:`patch_width`).
+
+    Parameters
+    ----------
+    tres : TangentialResult
+        A solved tangential state (``stick``, ``contact``, ``grid``).
+
+    Returns
+    -------
+    float
+        Width (m) of the widest patch of stick nodes in compressive contact; 0 without one.
+    """
     g = tres.grid
     return patch_width(np.asarray(tres.stick, bool) & np.asarray(tres.contact, bool), g.dx, g.dy)
 
@@ -179,8 +226,17 @@ def stick_zone_width(tres) -> float:
 def scan_pixel(files: Mapping | None) -> tuple[float, str] | None:
     """Largest pixel (m) of the measured topographies of a problem and the body it belongs to.
 
-    ``files`` is the ``problem.info["files"]`` table of :func:`tribobem.scenario.build_problem`
-    (``scan_grid`` and ``scan_size`` of each measured roughness).  None without measured files.
+    Parameters
+    ----------
+    files : mapping or None
+        The ``problem.info["files"]`` table of :func:`tribobem.scenario.build_problem`
+        (``scan_grid`` and ``scan_size`` of each measured roughness); entries without them
+        are skipped.
+
+    Returns
+    -------
+    tuple of (float, str) or None
+        (largest pixel side in m, key of its entry); None without measured files.
     """
     best = None
     for key, f in (files or {}).items():
@@ -195,7 +251,18 @@ def scan_pixel(files: Mapping | None) -> tuple[float, str] | None:
 
 
 def warning_names(warnings: Sequence[str]) -> list[str]:
-    """The check names (:data:`CHECKS`) of a list of warnings, in order, without repeats."""
+    """The check names (:data:`CHECKS`) of a list of warnings, in order, without repeats.
+
+    Parameters
+    ----------
+    warnings : sequence of str
+        Warning lines ``"name: message"``; lines of other origins are ignored.
+
+    Returns
+    -------
+    list of str
+        The names that are in :data:`CHECKS`.
+    """
     out = []
     for w in warnings or []:
         name = str(w).split(":", 1)[0].strip()
@@ -228,6 +295,12 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
     gross_slip : bool, optional
         The run's own verdict (summary ``gross_slip``): False when it claims that the last
         state is still in partial slip, which the stick-zone check then requires resolved.
+
+    Returns
+    -------
+    list of str
+        One ``"name: message"`` line per check that fired (names from :data:`CHECKS`); empty
+        when the grid backs every state.
     """
     out: list[str] = []
     res = [r for r in results if r is not None]
@@ -361,8 +434,17 @@ def compare_expected(summary: Mapping, expected: Mapping | None) -> dict | None:
 def pull_off_statement(summary: Mapping) -> str:
     """One line for a pull-off run: the pull-off force, its expected value and the resolution.
 
-    E.g. ``"pull-off -0.2549 µN (Maugis-Dugdale ... -0.25 µN, +2.0 %; cohesive zone 10.1 cells
-    wide: resolved)"``; "NOT resolved" with the names of the checks that fired.
+    Parameters
+    ----------
+    summary : mapping
+        A pull-off run's summary (``pull_off_force``, ``expected``, ``warnings``,
+        ``cohesive_zone_cells``).
+
+    Returns
+    -------
+    str
+        E.g. ``"pull-off -0.2549 µN (Maugis-Dugdale ... -0.25 µN, +2.0 %; cohesive zone 10.1
+        cells wide: resolved)"``; "NOT resolved" with the names of the checks that fired.
     """
 
     f = summary.get("pull_off_force")

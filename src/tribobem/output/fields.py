@@ -226,7 +226,26 @@ def _engine() -> str:
 
 
 def read_fields(path):
-    """Read a fields.nc (file or result folder) fully into memory (the file is closed)."""
+    """Read a fields.nc (file or result folder) fully into memory (the file is closed).
+
+    Loading and closing at once keeps no file handle open, so the result folder can be
+    rewritten (or removed on Windows) while the dataset is in use.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``fields.nc`` file or the result folder that holds it.
+
+    Returns
+    -------
+    xarray.Dataset
+        The fields in SI units, loaded into memory.
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file.
+    """
     import xarray as xr
 
     path = Path(path)
@@ -239,8 +258,19 @@ def read_fields(path):
 
 
 def representative_step(ds) -> int | None:
-    """The step the maps show: the one labelled ``pull-off`` if any, else the most loaded
-    (largest normal force); None when the dataset has no steps."""
+    """The step the maps show: the one labelled ``pull-off`` if any, else the most loaded.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A fields dataset (:func:`read_fields`).
+
+    Returns
+    -------
+    int or None
+        Index along ``step``: the ``pull-off`` step, else the largest normal force (the last
+        step when no force is finite); None when the dataset has no steps.
+    """
     n = ds.sizes.get("step", 0)
     if n == 0:
         return None

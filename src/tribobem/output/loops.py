@@ -20,9 +20,22 @@ def comparison_figure(cmp, path, center: bool = True) -> Path:
     """Draw ``cmp`` (a :class:`~tribobem.analysis.loops.LoopComparison`) to ``path`` (PNG).
 
     Two panels: (a) the loops overlaid; (b) the pre-sliding branches from their turning points
-    with the Eq. 3 fits and the points A, B, C.  ``center``: shift each loop so that its
-    displacement range is centred on 0 (a measured path 0 -> d_s and a simulated one
-    -d_s/2 -> d_s/2 then overlay).  Sets ``cmp.figure`` and returns the path.
+    with the Eq. 3 fits and the points A, B, C.
+
+    Parameters
+    ----------
+    cmp : LoopComparison
+        The comparison; its ``figure`` is set to the written path.
+    path : path-like
+        The PNG file.
+    center : bool
+        Shift each loop so that its displacement range is centred on 0 (a measured path
+        0 -> d_s and a simulated one -d_s/2 -> d_s/2 then overlay).
+
+    Returns
+    -------
+    pathlib.Path
+        The written file.
     """
     from matplotlib.figure import Figure
 

@@ -24,7 +24,20 @@ CONTACT_COLORS = ("#e9ecef", "#f4a261", "#264653")  # free, cohesive zone, conta
 
 
 def new_figure(w=5.6, h=4.4):
-    """A constrained-layout Figure of ``w`` x ``h`` inches (no pyplot state: thread-safe)."""
+    """A constrained-layout Figure of ``w`` x ``h`` inches (no pyplot state: thread-safe).
+
+    pyplot keeps global state; a bare Figure does not, so figures can be made in worker
+    threads (sweeps) and are freed with their last reference.
+
+    Parameters
+    ----------
+    w, h : float
+        Width and height (inches).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(w, h), layout="constrained")
@@ -32,14 +45,40 @@ def new_figure(w=5.6, h=4.4):
 
 
 def save_png(fig, path) -> Path:
-    """Write ``fig`` to ``path`` as PNG, atomically; returns the path."""
+    """Write ``fig`` to ``path`` as PNG, atomically, at :data:`DPI`.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    path : path-like
+        The PNG file.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=DPI)
     return atomic_write_bytes(path, buf.getvalue())
 
 
 def map_extent(ds, factor):
-    """imshow extent of the grid of dataset ``ds`` (cell edges), in m / ``factor``."""
+    """imshow extent of the grid of dataset ``ds`` (cell edges), in m / ``factor``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A fields dataset with cell-centre coordinates ``x``, ``y`` (m).
+    factor : float
+        Display unit in m (e.g. 1e-6 for um), from :func:`~tribobem.units.display_unit`.
+
+    Returns
+    -------
+    list of float
+        ``[left, right, bottom, top]`` in the display unit.
+    """
     x, y = np.asarray(ds["x"].values), np.asarray(ds["y"].values)
     dx = float(x[1] - x[0]) if len(x) > 1 else 1.0
     dy = float(y[1] - y[0]) if len(y) > 1 else 1.0
@@ -47,7 +86,25 @@ def map_extent(ds, factor):
 
 
 def map_axes(ax, ds, lf, ll, active=None):
-    """Labels, equal aspect, and a zoom on the active region when it is small."""
+    """Labels, equal aspect, and a zoom on the active region when it is small.
+
+    The zoom (a square window 1.5 x the region's larger extent plus two cells on each side,
+    applied when it is under 60 % of the domain) keeps a small contact visible on a large
+    domain.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The map's axes.
+    ds : xarray.Dataset
+        The fields dataset (coordinates ``x``, ``y`` in m).
+    lf : float
+        Display unit in m.
+    ll : str
+        Its label (e.g. ``"µm"``).
+    active : ndarray of bool, optional
+        The region to zoom on (grid-shaped); None: no zoom.
+    """
     ax.set_xlabel(f"x ({ll})")
     ax.set_ylabel(f"y ({ll})")
     ax.set_aspect("equal")
@@ -66,7 +123,20 @@ def map_axes(ax, ds, lf, ll, active=None):
 
 
 def step_title(ds, step) -> str:
-    """``label, F = ...`` of step ``step`` of dataset ``ds``."""
+    """``label, F = ...`` of step ``step`` of dataset ``ds``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields dataset (``label`` and ``normal_force`` per step).
+    step : int
+        Index along ``step``.
+
+    Returns
+    -------
+    str
+        The step's label and its normal force in a readable unit.
+    """
     label = str(ds["label"].values[step])
     f = float(ds["normal_force"].values[step])
     return f"{label}, F = {format_quantity(f, 'force', 3)}"

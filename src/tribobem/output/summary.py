@@ -33,7 +33,14 @@ REQUIRED_KEYS = ("kind", "converged", "inputs", "versions", "timings", "steps")
 
 
 def versions() -> dict:
-    """Versions of tribobem, numpy, scipy and python (and the optional libraries in use)."""
+    """Versions of tribobem, numpy, scipy and python (and the optional libraries in use).
+
+    Returns
+    -------
+    dict
+        Library name -> version string; xarray, matplotlib and SurfaceTopography only where
+        they can be imported.
+    """
     import scipy
 
     try:
@@ -57,7 +64,20 @@ def jsonable(obj, fallback=str):
     """``obj`` with numpy scalars/arrays turned into Python types and NaN/inf into None.
 
     Mappings become dicts with string keys, tuples lists, path-like objects strings; any
-    other object becomes ``fallback(obj)`` (the sweep's hashes use ``repr``).
+    other object becomes ``fallback(obj)`` (the sweep's hashes use ``repr``).  NaN becomes None
+    because strict JSON has no NaN.
+
+    Parameters
+    ----------
+    obj : object
+        Any value.
+    fallback : callable
+        Applied to values of no known type.
+
+    Returns
+    -------
+    object
+        A value that ``json.dumps(..., allow_nan=False)`` accepts (if ``fallback`` returns one).
     """
     if isinstance(obj, Mapping):
         return {str(k): jsonable(v, fallback) for k, v in obj.items()}
@@ -100,7 +120,25 @@ def write_summary(path, summary: dict) -> Path:
 
 
 def read_summary(path) -> dict:
-    """Read a summary.json (a file or the result folder that holds it)."""
+    """Read a summary.json (a file or the result folder that holds it).
+
+    Parameters
+    ----------
+    path : path-like
+        The ``summary.json`` file or the result folder.
+
+    Returns
+    -------
+    dict
+        The parsed summary (NaN and inf were written as null).
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file.
+    InputError
+        The file is not valid JSON.
+    """
     path = Path(path)
     if path.is_dir():
         path = path / "summary.json"

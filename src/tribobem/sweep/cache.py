@@ -121,6 +121,9 @@ def solver_options(runner: str, base: Mapping, point: Mapping, _defaults: Mappin
         As for :func:`point_hash`.
     base, point : mapping
         Base scenario (or keyword arguments) and the point's dotted overrides.
+    _defaults : mapping, optional
+        Internal: the schema's or the function's defaults, looked up once by
+        :func:`point_tasks` instead of once per point.
 
     Returns
     -------

@@ -51,12 +51,22 @@ class SweepSpec:
         ``"package.module:callable"``; the callable takes the merged keyword arguments
         (base plus point, unit strings converted to SI floats) and returns a dict of
         scalars (or one float, gathered as ``value``).  None: run scenarios.
+    name : str
+        Name of the sweep (progress messages, the results' ``sweep`` attribute); default the
+        sweep file's stem.
+    description : str
+        Free text.
     scenario_path : Path or None
         Where the base scenario came from (its folder resolves relative paths).
     source : Path or None
         The sweep file.
     keep_runs : bool
         Scenario runner: keep each run's results folder under ``OUTDIR/runs/<hash>/``.
+    scheduler : str or None
+        Default Dask scheduler of the sweep file (an address, ``"local"`` or
+        ``"synchronous"``); the command line overrides it.
+    workers : int or None
+        Default local cluster size (>= 1); the command line overrides it.
     """
 
     base: dict = field(default_factory=dict)

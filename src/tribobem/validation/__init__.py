@@ -16,9 +16,10 @@ in the order they run):
 :mod:`~tribobem.validation.studies`
     ``bisinusoidal_resolution`` (the published 625-case table of Paper A section 6).
 
-Three tiers: ``quick`` (small grids, under a minute), ``ci`` (the gating tier of CI: the cases
-that protect published numbers at a resolution that still discriminates, about five minutes
-per physics on two cores, :mod:`~tribobem.validation.gate`) and ``full`` (every accuracy bar).
+Three tiers: ``quick`` (small grids), ``ci`` (the gating tier of CI: the cases that protect
+published numbers at a resolution that still discriminates and fits CI's time budget per
+physics, :mod:`~tribobem.validation.gate`) and ``full`` (every accuracy bar).  Their run times
+are in benchmarks/README.md.
 
 Shared pieces (:class:`ValidationRow`, the row arithmetic, the silica/rigid-ball pair) live in
 :mod:`~tribobem.validation.common`.  A new physics is a new module and one line in
@@ -40,7 +41,8 @@ from .common import PAIR, SILICA, CaseFunction, ValidationRow, _row, _solve  # n
 
 __all__ = [
     "CASES", "PHYSICS", "PHYSICS_CASES", "LEVELS", "ValidationRow", "run_validation",
-    "MaugisDugdaleProblem", "maugis_dugdale_problem", "md_cells_cohesive", "md_pull_off_scan", "maugis_dugdale_rows", "md_pull_off_rows",
+    "MaugisDugdaleProblem", "maugis_dugdale_problem", "md_cells_cohesive", "md_pull_off_scan", "maugis_dugdale_rows",
+    "md_pull_off_rows",
     "GuduruProblem", "guduru_problem", "guduru_analytic_path", "guduru_rows", "guduru_compare",
     "guduru_extrema", "guduru_path", "md_pull_off", "MD_LAMBDAS",
 ]
@@ -90,17 +92,17 @@ def run_validation(quick: bool = True, cases: Iterable[str] | None = None,
     Parameters
     ----------
     quick : bool
-        Small grids (the whole quick run takes well under a minute on two cores) or the full
-        accuracy bars of the specification (512^2 Hertz, all six Maugis parameters up to a
-        1248^2 grid for lambda = 5, Guduru at 192^2: an hour or more on two cores).
+        Small grids or the full accuracy bars of the specification (512^2 Hertz, all six
+        Maugis parameters up to a 1248^2 grid for lambda = 5, Guduru at 192^2: by far the
+        costliest tier).
     cases : iterable of str, optional
         Names from :data:`CASES`; all by default.
     progress : callable, optional
         Called as ``progress(done, total, case)`` after each case.
     level : {"quick", "ci", "full"}, optional
         The tier; overrides ``quick``.  ``"ci"``: the gating tier of CI
-        (:mod:`tribobem.validation.gate`: published numbers at a resolution that fits about five
-        minutes per physics on two cores).
+        (:mod:`tribobem.validation.gate`: published numbers at a resolution that fits CI's time
+        budget per physics).
     physics : iterable of str, optional
         Only the cases of these physics modules (names from :data:`PHYSICS`); combined with
         ``cases`` the two selections intersect.
@@ -108,6 +110,7 @@ def run_validation(quick: bool = True, cases: Iterable[str] | None = None,
     Returns
     -------
     list of ValidationRow
+        The rows of every selected case, in the order of :data:`CASES`.
 
     Raises
     ------

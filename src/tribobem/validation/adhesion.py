@@ -114,10 +114,21 @@ class MaugisDugdaleProblem:
 
     @property
     def dgamma(self) -> float:
+        """Work of adhesion (J/m^2) of :attr:`adhesion`."""
         return self.adhesion.work_of_adhesion
 
     def reference(self, **state):
-        """Analytic state (:func:`tribobem.analytic.maugis_dugdale`), ``force=``/``approach=``/``a=``."""
+        """Analytic state of this sphere (:func:`tribobem.analytic.maugis_dugdale`).
+
+        Parameters
+        ----------
+        **state
+            Exactly one of ``force=`` (N), ``approach=`` (m) or ``a=`` (m).
+
+        Returns
+        -------
+        MaugisDugdaleSolution
+        """
         return maugis_dugdale(self.radius, self.dgamma, self.E_star, self.z0, **state)
 
     def force_points(self) -> list[float]:
@@ -125,8 +136,14 @@ class MaugisDugdaleProblem:
         return [self.F_scale, 0.0, 0.5 * self.F_pull_off]
 
     def approach_points(self) -> list[float]:
-        """Displacement-control check points (m): the approaches of F_M = 1 and of 0.75 x the
-        pull-off force on the stable (large-a) branch."""
+        """Displacement-control check points (m).
+
+        Returns
+        -------
+        list of float
+            The approaches (m) of F_M = 1 and of 0.75 x the pull-off force on the stable
+            (large-a) branch.
+        """
         return [float(self.reference(force=self.F_scale).approach),
                 float(self.reference(force=0.75 * self.F_pull_off).approach)]
 
@@ -138,6 +155,16 @@ def md_cells_cohesive(lam: float) -> float:
     3-4% on the tensile approach/force and on the pull-off (errors fall like dx/(c - a),
     first order); 12 cells bring it to 2.3%.  For lambda = 5 the cohesive zone is 1.5% of
     the contact radius and 12 cells would need a 1872^2 grid: it keeps 8 (1248^2).
+
+    Parameters
+    ----------
+    lam : float
+        Maugis parameter.
+
+    Returns
+    -------
+    float
+        Cells across c - a.
     """
     return 8.0 if lam >= 5 else 12.0
 
@@ -152,6 +179,30 @@ def maugis_dugdale_problem(lam: float, *, radius: float = 2.5e-6, z0: float = 0.
     the cohesive zone c - a spans at least ``cells_cohesive`` cells (default
     :func:`md_cells_cohesive`) and the contact radius at least ``cells_contact`` cells at every
     point; n is rounded up to a multiple of 16.  ``n`` overrides the cell count (same domain).
+
+    Parameters
+    ----------
+    lam : float
+        Maugis parameter; the work of adhesion follows from it
+        (:meth:`~tribobem.interactions.dugdale.DugdaleAdhesion.from_maugis`).
+    radius : float
+        Sphere radius R (m).
+    z0 : float
+        Equilibrium distance (m).
+    cells_cohesive : float, optional
+        Least cells across the cohesive zone c - a.
+    cells_contact : float
+        Least cells across the contact radius a.
+    domain : float
+        Side of the square domain in units of the largest cohesive radius c.
+    n : int, optional
+        Cells per side, instead of the rule above.
+
+    Returns
+    -------
+    MaugisDugdaleProblem
+        The silica flat (:data:`~tribobem.validation.common.PAIR`) under a rigid paraboloid on
+        a free-boundary grid.
     """
     if cells_cohesive is None:
         cells_cohesive = md_cells_cohesive(lam)
@@ -199,6 +250,36 @@ def maugis_dugdale_rows(prob: MaugisDugdaleProblem, *, forces: Sequence[float] |
     force-approach curve (:func:`tribobem.solvers.paths.solve_at_force`, force within 1e-3).
     Default: ``"approach"`` for lambda >= 5, where the direct solve stalls on the 1248^2 grid
     (no progress in 2000 iterations at F = pi R dgamma), else ``"direct"``.
+
+    Parameters
+    ----------
+    prob : MaugisDugdaleProblem
+        The problem.
+    forces : sequence of float, optional
+        Force-control points (N); default :meth:`MaugisDugdaleProblem.force_points`.
+    approaches : sequence of float, optional
+        Displacement-control points (m); default
+        :meth:`MaugisDugdaleProblem.approach_points`.
+    tol : float
+        Relative tolerance of every row but the force under displacement control.
+    tol_dc_force : float
+        Relative tolerance of the force under displacement control.
+    solver_tol : float
+        Tolerance of the normal solver.
+    dc_start : {"cold", "force"}
+        Start of the displacement-controlled solves (above).
+    force_path : {"direct", "approach"}, optional
+        How the force-control points are solved (above).
+
+    Returns
+    -------
+    list of ValidationRow
+        Per force point: a, c, approach; per approach point: force, a, c.
+
+    Raises
+    ------
+    InputError
+        An unknown ``dc_start`` or ``force_path``.
     """
     if dc_start not in ("cold", "force"):
         raise InputError("dc_start", f"must be 'cold' or 'force', got {dc_start!r}")
@@ -246,7 +327,24 @@ def maugis_dugdale_rows(prob: MaugisDugdaleProblem, *, forces: Sequence[float] |
 
 def md_pull_off(prob: MaugisDugdaleProblem, *, n_steps: int = 24, refine: int = 8, solver_tol: float = 1e-9):
     """Pull-off of the Maugis-Dugdale problem by displacement-controlled unloading from
-    F = pi R dgamma (:func:`tribobem.solvers.paths.pull_off`)."""
+    F = pi R dgamma (:func:`tribobem.solvers.paths.pull_off`).
+
+    Parameters
+    ----------
+    prob : MaugisDugdaleProblem
+        The problem.
+    n_steps : int
+        Unloading steps of the continuation.
+    refine : int
+        Refinements of the step at the pull-off.
+    solver_tol : float
+        Tolerance of the normal solver.
+
+    Returns
+    -------
+    PullOff
+        Pull-off force (N, negative), its approach (m) and the unloading curve.
+    """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         return pull_off(prob.operator, prob.gap, prob.adhesion, preload=prob.F_scale, control="displacement",
@@ -258,14 +356,28 @@ def md_pull_off_scan(prob: MaugisDugdaleProblem, *, D_start: float = 0.3, half_w
     """Pull-off force from a short displacement-controlled scan around the analytic pull-off.
 
     For large lambda the continuation of :func:`tribobem.solvers.paths.pull_off` (steps of
-    h0/4 once the force is tensile) needs ~60 solves, which on the 1248^2 grid of lambda = 5
-    takes hours on two cores.  Here the approach runs under displacement control from
+    h0/4 once the force is tensile) needs ~60 solves, far too many on the 1248^2 grid of
+    lambda = 5 (cost: benchmarks/README.md).  Here the approach runs under displacement control from
     ``D_start`` > 0 (a cold start at a positive approach lands on the stable large-contact
     branch; at a negative one it finds the separated state) down to D_po - ``half_width``
     (D_po: analytic pull-off approach, Johnson-Greenwood units) in steps of ``step``, each
     solve warm-started from the previous one, and a parabola through the three lowest forces
     gives the minimum.  (Starting from the force-controlled state instead carries its approach
     error into every force: -3.3% at lambda = 5 on 1248^2.)
+
+    Parameters
+    ----------
+    prob : MaugisDugdaleProblem
+        The problem.
+    D_start : float
+        Highest approach of the scan (Johnson-Greenwood units); the scan starts at
+        ``max(D_start, D_po + half_width)``.
+    half_width : float
+        Half width of the scan about D_po (Johnson-Greenwood units).
+    step : float
+        Approach step (Johnson-Greenwood units).
+    solver_tol : float
+        Tolerance of the normal solver.
 
     Returns
     -------
@@ -292,7 +404,22 @@ def md_pull_off_scan(prob: MaugisDugdaleProblem, *, D_start: float = 0.3, half_w
 
 def md_pull_off_rows(prob: MaugisDugdaleProblem, tol: float = 0.03, **kw) -> list[ValidationRow]:
     """Pull-off row: :func:`md_pull_off` (continuation), or :func:`md_pull_off_scan` for
-    lambda >= 5 (cost, see there)."""
+    lambda >= 5 (cost, see there).
+
+    Parameters
+    ----------
+    prob : MaugisDugdaleProblem
+        The problem.
+    tol : float
+        Relative tolerance on the pull-off force.
+    **kw
+        Passed to :func:`md_pull_off` (not to the scan).
+
+    Returns
+    -------
+    list of ValidationRow
+        One row: the pull-off force against the analytic one.
+    """
     case = f"md_pull_off lambda={prob.lam:g} {prob.grid.nx}^2"
     if prob.lam >= 5:
         force, _ = md_pull_off_scan(prob)
@@ -310,6 +437,29 @@ class GuduruProblem:
     """Sphere on h = r^2/(2R) + A (1 - cos(2 pi r/xi)) with Dugdale adhesion (Paper A 5.2).
 
     ``D_unit = xi^2/R`` and ``P_unit = pi dgamma R`` are the units of Paper A Eq. 30.
+
+    Attributes
+    ----------
+    alpha, beta, lam : float
+        Paper A Eq. 30 parameters and the Maugis parameter (dimensionless).
+    radius : float
+        Sphere radius R (m).
+    amplitude : float
+        Waviness amplitude A (m).
+    wavelength : float
+        Waviness wavelength xi (m).
+    adhesion : DugdaleAdhesion
+        The Dugdale law.
+    grid : Grid
+        Free-boundary grid.
+    operator : object
+        DC-FFT operator of the grid.
+    gap : ndarray
+        Initial gap (m).
+    D_unit : float
+        xi^2/R (m).
+    P_unit : float
+        pi dgamma R (N).
     """
 
     alpha: float
@@ -328,9 +478,33 @@ class GuduruProblem:
 
 def guduru_problem(alpha: float, *, lam: float = 1.0, n: int = 128, radius: float = 2.5e-3,
                    wavelength: float = 0.8e-6, z0: float = 0.3e-9, domain: float = 7.0) -> GuduruProblem:
-    """Paper A Fig. 6 parameters (E = 73 GPa, nu = 0.17, R = 2.5 mm, xi = 0.8 um); the work of
-    adhesion follows from ``lam``, the amplitude from ``alpha`` = A R/xi^2.  Domain
-    ``domain`` x xi (7 xi holds the cohesive zone up to Delta = 3.2 for alpha = 0.3)."""
+    """The Guduru validation problem with Paper A Fig. 6 parameters.
+
+    E = 73 GPa, nu = 0.17, R = 2.5 mm, xi = 0.8 um; the work of adhesion follows from ``lam``,
+    the amplitude from ``alpha`` = A R/xi^2.  Domain ``domain`` x xi (7 xi holds the cohesive
+    zone up to Delta = 3.2 for alpha = 0.3).
+
+    Parameters
+    ----------
+    alpha : float
+        A R/xi^2 (dimensionless).
+    lam : float
+        Maugis parameter of the sphere.
+    n : int
+        Cells per side.
+    radius : float
+        Sphere radius R (m).
+    wavelength : float
+        Waviness wavelength xi (m).
+    z0 : float
+        Equilibrium distance (m).
+    domain : float
+        Side of the square domain in units of xi.
+
+    Returns
+    -------
+    GuduruProblem
+    """
     E = PAIR.effective_modulus
     ad = DugdaleAdhesion.from_maugis(lam, radius, E, z0)
     A = alpha * wavelength**2 / radius
@@ -362,6 +536,15 @@ def guduru_analytic_path(prob: GuduruProblem, D_path: Sequence[float], abar_max:
     unloading), the state jumps to the nearest stable segment with that approach in the
     direction of motion (larger abar on loading, smaller on unloading): the analytic jump.
     The first point starts on its largest-abar stable segment.
+
+    Parameters
+    ----------
+    prob : GuduruProblem
+        The problem (alpha, beta, lambda).
+    D_path : sequence of float
+        Approaches Delta = delta R/xi^2 (dimensionless), in path order.
+    abar_max : float
+        Largest a/xi of the tabulated analytic curve.
 
     Returns
     -------
@@ -421,7 +604,20 @@ def guduru_analytic_path(prob: GuduruProblem, D_path: Sequence[float], abar_max:
 
 
 def guduru_extrema(prob: GuduruProblem, abar_max: float = 3.2):
-    """Local extrema of Delta(abar) on the analytic curve: ``[(abar, Delta, P, 'max'|'min')]``."""
+    """Local extrema of Delta(abar) on the analytic curve: where the analytic jumps happen.
+
+    Parameters
+    ----------
+    prob : GuduruProblem
+        The problem.
+    abar_max : float
+        Largest a/xi of the tabulated analytic curve.
+
+    Returns
+    -------
+    list of tuple
+        ``(abar, Delta, P, "max" | "min")`` per extremum, dimensionless, in increasing abar.
+    """
     ab, D, P = _guduru_table(prob, abar_max)
     dD = np.diff(D)
     ext = np.where(np.sign(dD[1:]) != np.sign(dD[:-1]))[0] + 1
@@ -438,6 +634,24 @@ def guduru_path(prob: GuduruProblem, D_top: float, D_bottom: float, step: float,
     loop) the point between them is their midpoint.  Uniform points closer than ``eps`` to an
     extremum are dropped, so each analytic jump lies inside one step and at least
     min(eps, half the distance to the neighbouring extremum) from its ends.
+
+    Parameters
+    ----------
+    prob : GuduruProblem
+        The problem.
+    D_top, D_bottom : float
+        Highest and lowest approach (dimensionless).
+    step : float
+        Uniform approach step (dimensionless).
+    eps : float
+        Distance of the bracketing points from each extremum (dimensionless).
+    abar_max : float
+        Largest a/xi of the tabulated analytic curve.
+
+    Returns
+    -------
+    ndarray
+        Distinct approaches in decreasing order (dimensionless).
     """
     J = sorted(d for _, d, _, _ in guduru_extrema(prob, abar_max) if D_bottom + eps < d < D_top - eps)
     pts = [p for p in np.arange(D_top, D_bottom - 1e-12, -step) if all(abs(p - j) >= eps for j in J)]
@@ -452,10 +666,25 @@ def guduru_compare(prob: GuduruProblem, D_top: float = 3.2, D_bottom: float = -1
                    eps: float = 0.06, solver_tol: float = 1e-9, min_jump: float = 0.2):
     """Run the numerical unloading/reloading cycle and the analytic path on the same approaches.
 
-    Returns a dict with the dimensionless path ``D`` (unloading then reloading), numerical and
-    analytic forces ``P_num``, ``P_ana``, the analytic ``jumps`` (only those with a force jump
-    of at least ``min_jump`` pi dgamma R) and, for each, the numerical force jump across the same
-    step ``num_jump``.
+    Parameters
+    ----------
+    prob : GuduruProblem
+        The problem.
+    D_top, D_bottom, step, eps : float
+        The path (dimensionless), see :func:`guduru_path`.
+    solver_tol : float
+        Tolerance of the normal solver.
+    min_jump : float
+        Smallest analytic force jump reported (units of pi dgamma R).
+
+    Returns
+    -------
+    dict
+        ``D`` the dimensionless path (unloading then reloading), ``P_num`` and ``P_ana`` the
+        numerical and analytic forces (units of pi dgamma R), ``jumps`` the analytic jumps of
+        at least ``min_jump`` (each with ``num_jump``, ``ana_jump`` and the bracketing
+        ``step``), ``converged`` per point and ``curve`` the numerical
+        :class:`~tribobem.solvers.paths.LoadCurve`.
     """
     down = guduru_path(prob, D_top, D_bottom, step, eps)
     with warnings.catch_warnings():
@@ -497,6 +726,23 @@ def guduru_rows(prob: GuduruProblem, tol_force: float = 0.07, eps: float = 0.06,
       change (30%): the numerical jump happens where the analytic curve puts it, to within
       ``eps`` (0.06 xi^2/R, about twice the discretisation error of the approach at these
       grids).
+
+    Parameters
+    ----------
+    prob : GuduruProblem
+        The problem.
+    tol_force : float
+        Tolerance of the force along the cycle (first row).
+    eps : float
+        Bracket of each analytic jump (dimensionless approach), see :func:`guduru_path`.
+    min_jump : float
+        Smallest analytic force jump checked (units of pi dgamma R).
+    **kw
+        Passed to :func:`guduru_compare` (``D_top``, ``D_bottom``, ``step``, ``solver_tol``).
+
+    Returns
+    -------
+    list of ValidationRow
     """
     out = guduru_compare(prob, eps=eps, min_jump=min_jump, **kw)
     case = f"guduru alpha={prob.alpha:.2g} lambda={prob.lam:g} {prob.grid.nx}^2"

@@ -72,6 +72,25 @@ def bisinusoidal_cell(R_c: float, k: float, S: float = PAPER_A_S) -> tuple[float
     """Cell sides ``(lx, ly)`` (m) of the bisinusoid with crest radius ``R_c`` and ratio ``k``.
 
     ``R_c = lx ly / (4 pi^2 S)`` and ``k = ly / lx`` give ``lx = 2 pi sqrt(R_c S / k)``.
+
+    Parameters
+    ----------
+    R_c : float
+        Effective crest radius sqrt(Rx Ry) (m).
+    k : float
+        Wavelength ratio ly / lx in (0, 1].
+    S : float
+        Amplitude (m).
+
+    Returns
+    -------
+    lx, ly : float
+        Cell sides (m).
+
+    Raises
+    ------
+    InputError
+        A non-positive ``R_c`` or ``S``, or ``k`` outside (0, 1].
     """
     for name, v in (("R_c", R_c), ("S", S)):
         if not (math.isfinite(v) and v > 0):
@@ -85,7 +104,20 @@ def bisinusoidal_cell(R_c: float, k: float, S: float = PAPER_A_S) -> tuple[float
 def bisinusoidal_gap(grid: Grid, S: float) -> np.ndarray:
     """Initial gap ``S - S cos(2 pi x / lx) cos(2 pi y / ly)`` on the nodes ``x_i = i dx``.
 
-    The crests (gap 0) sit on the nodes (0, 0) and (nx/2, ny/2) (even nx, ny).
+    The crests (gap 0) sit on the nodes (0, 0) and (nx/2, ny/2) (even nx, ny), so the
+    contact starts on a node and the pull-off does not depend on a sub-cell offset.
+
+    Parameters
+    ----------
+    grid : Grid
+        The periodic cell (lx, ly are the wavelengths).
+    S : float
+        Amplitude (m).
+
+    Returns
+    -------
+    ndarray
+        Gap (m), shape ``grid.shape``, in [0, 2 S].
     """
     x = np.arange(grid.nx) * grid.dx
     y = np.arange(grid.ny) * grid.dy
@@ -141,6 +173,8 @@ def bisinusoidal_pull_off(
         Dugdale equilibrium distance (m): sigma0 = 16 dgamma / (9 sqrt3 z0), h0 = 0.974 z0.
     n : int
         Cells per side (nx = ny = n) unless ``nx`` / ``ny`` are given; even.
+    nx, ny : int, optional
+        Cells along x and y (even), instead of ``n``.
     kernel : {"spectral", "influence"}
         Periodic kernel (see :func:`tribobem.elasticity.operators.periodic_operator`).
     n_steps : int
@@ -264,9 +298,19 @@ def pull_off_point(dgamma, R_c, E_star, k, S=PAPER_A_S, z0=DEFAULT_Z0, n=DEFAULT
                    kernel="spectral", n_steps=40, refine=10, tol=1e-9, max_iterations=20000) -> dict:
     """One sweep point (``function = "tribobem.validation.bisinusoidal:pull_off_point"``).
 
-    Returns the scalars of :func:`bisinusoidal_pull_off` (``details=True``) without the
-    curve, with ``pull_off_force`` negative (SPEC sign: tensile < 0) and
-    ``normalised_pull_off = |F| / (R_c dgamma)``.
+    A sweep point must return plain scalars, hence a dict without the curve.
+
+    Parameters
+    ----------
+    dgamma, R_c, E_star, k, S, z0, n, nx, ny, kernel, n_steps, refine, tol, max_iterations
+        As for :func:`bisinusoidal_pull_off` (J/m^2, m, Pa, -, m, m, cells, ...).
+
+    Returns
+    -------
+    dict
+        The scalars of :func:`bisinusoidal_pull_off` (``details=True``) without the curve,
+        with ``pull_off_force`` negative (SPEC sign: tensile < 0, N) and
+        ``normalised_pull_off = |F| / (R_c dgamma)`` (dimensionless).
     """
     out = bisinusoidal_pull_off(dgamma, R_c, E_star, k, S=S, z0=z0, n=int(n), nx=nx, ny=ny, kernel=kernel,
                                 n_steps=int(n_steps), refine=int(refine), tol=tol,

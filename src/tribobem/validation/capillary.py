@@ -16,14 +16,14 @@ Cases
     has a row against the island rule's own exact value for the exact sphere,
     pi (2 R S - S^2) dP_cap (1 %): the discretisation alone (0.1-0.3 % at 256^2).  The domain is
     2.4 x the wetted radius at the highest RH, 256^2 (quick) or 512^2 (full): >= 40 cells across
-    the meniscus at RH 0.3.  Milliseconds per RH.
+    the meniscus at RH 0.3.
 ``capillary_force_balance``
     An elastic silica flat (73 GPa, 0.17) under a rigid sphere (R = 1 um), 128^2 free
     boundary, force control F0 = 1 uN, RH 0.5, SiO2 films, Dugdale adhesion (50 mJ/m^2,
     z0 = 0.3 nm) and the water-solid terms: the discrete problem's balance (total force = F0,
     1e-8; contact + capillary + solid-solid + water-solid = total, 1e-10), F_cap = dP_cap x
     wetted area (1e-12) and self-consistency of the islands (islands of the final gap = the
-    islands of the final solve: 0 differing nodes).  About a second.
+    islands of the final solve: 0 differing nodes).
 """
 
 from __future__ import annotations
@@ -54,7 +54,27 @@ RH_INFO = {True: (0.9,), False: (0.9, 0.95)}
 
 
 def sphere_flat_case(radius: float, rh: float, n: int, top_rh: float, water: Water | None = None):
-    """One rigid sphere-flat solve: returns (BEM force, A.27-A.29 force, island-rule force)."""
+    """One rigid sphere-flat solve against the two references.
+
+    Parameters
+    ----------
+    radius : float
+        Sphere radius R (m).
+    rh : float
+        Relative humidity of the solve.
+    n : int
+        Cells per side.
+    top_rh : float
+        Highest RH of the case: the domain is 2.4 x its wetted radius, so that every RH of a
+        case runs on the same grid.
+    water : Water, optional
+        Water properties; default :class:`~tribobem.interactions.water.Water`.
+
+    Returns
+    -------
+    tuple of float
+        (BEM capillary force, A.27-A.29 force, island-rule force on the exact sphere), N.
+    """
     water = Water() if water is None else water
     e = float(SIO2.thickness(rh))
     rk, dp = water.kelvin_radius(rh), water.capillary_pressure(rh)
@@ -71,7 +91,17 @@ def sphere_flat_case(radius: float, rh: float, n: int, top_rh: float, water: Wat
 
 
 def sphere_flat_rows(quick: bool = True) -> list[ValidationRow]:
-    """Rows of ``sphere_flat_capillary`` (module docstring)."""
+    """Rows of ``sphere_flat_capillary`` (module docstring).
+
+    Parameters
+    ----------
+    quick : bool
+        256^2 and three checked RH (else 512^2, five, and RH 0.95 informational).
+
+    Returns
+    -------
+    list of ValidationRow
+    """
     n = 256 if quick else 512
     rows = []
     rhs = RH_CHECKED[quick] + RH_INFO[quick]

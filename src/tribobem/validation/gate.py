@@ -1,11 +1,11 @@
 """The CI gating tier of the validation: ``tribobem validate --ci`` (``level="ci"``).
 
-The quick tier (``--quick``, under a minute) checks every case on small grids; the full tier
-(``--full``) is the complete set of accuracy bars (hours on two cores for lambda = 5).  The
-gating tier sits between them: every case that protects a published number runs at the
-resolution of that number, or, where that resolution does not fit CI's budget (about five
-minutes per physics on two cores), at a reduced resolution that still fails a wrong
-implementation; CI runs it one physics at a time (``--ci --physics NAME``) and fails on any
+The quick tier (``--quick``) checks every case on small grids; the full tier (``--full``) is
+the complete set of accuracy bars (the costliest being lambda = 5 on 1248^2).  The gating tier
+sits between them: every case that protects a published number runs at the resolution of that
+number, or, where that resolution does not fit CI's time budget per physics, at a reduced
+resolution that still fails a wrong implementation (run times of the tiers:
+benchmarks/README.md); CI runs it one physics at a time (``--ci --physics NAME``) and fails on any
 row (``.ci/run``).
 
 What each case runs (:data:`GATE`):
@@ -15,21 +15,20 @@ What each case runs (:data:`GATE`):
     JGH asymptotes at 1024^2 (normal); Guduru's three waviness ratios at 192^2 (adhesion); every
     tangential case (Cattaneo-Mindlin, periodic, stiffness, coupling signs, Spence); the
     Mindlin-Deresiewicz loop (hysteresis); Paper E's hysteresis study at 256^2 (paper_e); the
-    bisinusoidal resolution check with the published 625-case table (studies).  Each takes
-    seconds to about a minute.
+    bisinusoidal resolution check with the published 625-case table (studies).
 ``maugis_dugdale``, ``md_pull_off``
     The Maugis-Dugdale table of SPEC 5: lambda = 0.1, 0.3, 0.5, 1 and 2 at their full
     resolution (cohesive zone >= 12 cells, 15 rows each, 3 % / 5 %; pull-off 3 %), and
     lambda = 5 at :data:`MD_GATE_CELLS` cells across the cohesive zone (624^2) instead of 8
     (1248^2, where the force points need a displacement-controlled loading path: far more
-    than CI's budget; 784^2 with that path took 34 min of CPU).  The lambda = 5 rows of the
+    than CI's budget, even on 784^2).  The lambda = 5 rows of the
     gate: a, c and approach at F = 0 (a direct force-controlled solve, which converges on
     624^2), force, a and c at the two approaches of the full tier (cold displacement-controlled
     solves) and the pull-off (scan about the analytic pull-off approach), with the tolerances
     :data:`MD_GATE_TOL`.  Measured on 624^2: a, c 0.7-2.9 %, approach 5.7 %, force under
     displacement control 3.0 / 5.2 %, pull-off 2.8 %; the errors are first order in
     dx/(c - a) but not monotone (the discrete cohesive-zone edge: on 784^2 the pull-off is
-    6.1 % off); about 130 s of one core.
+    6.1 % off).
 anything else (a new physics' cases)
     Its quick rows, until a gate entry is added here.
 """
@@ -54,8 +53,8 @@ MD_GATE_TOL = (0.05, 0.08, 0.05)
 
 def _direct_force_control() -> dict:
     """Keyword asking :func:`maugis_dugdale_rows` for a direct force-controlled solve (its
-    default for lambda >= 5 is the displacement-controlled loading path, made for 1248^2, which
-    costs minutes per point); empty where the function has no such choice (direct anyway)."""
+    default for lambda >= 5 is the displacement-controlled loading path, made for 1248^2 and far
+    costlier per point); empty where the function has no such choice (direct anyway)."""
     import inspect
 
     return {"force_path": "direct"} if "force_path" in inspect.signature(maugis_dugdale_rows).parameters else {}
@@ -65,7 +64,14 @@ _DIRECT = _direct_force_control()
 
 
 def md_gate_rows() -> list[ValidationRow]:
-    """The Maugis-Dugdale table of the gate: every lambda of SPEC 5, 15 rows each."""
+    """The Maugis-Dugdale table of the gate: every lambda of SPEC 5.
+
+    Returns
+    -------
+    list of ValidationRow
+        The full-tier rows (15 each) for lambda < 5; for lambda = 5 the reduced set of the
+        module docstring at :data:`MD_GATE_CELLS` with :data:`MD_GATE_TOL`.
+    """
     rows: list[ValidationRow] = []
     for lam in MD_LAMBDAS:
         if lam >= 5:
@@ -83,7 +89,14 @@ def md_gate_rows() -> list[ValidationRow]:
 
 
 def md_pull_off_gate_rows() -> list[ValidationRow]:
-    """The Maugis-Dugdale pull-off of the gate: every lambda of SPEC 5."""
+    """The Maugis-Dugdale pull-off of the gate: every lambda of SPEC 5.
+
+    Returns
+    -------
+    list of ValidationRow
+        One pull-off row per lambda; lambda = 5 at :data:`MD_GATE_CELLS` with the pull-off
+        tolerance of :data:`MD_GATE_TOL`.
+    """
     rows: list[ValidationRow] = []
     for lam in MD_LAMBDAS:
         if lam >= 5:
@@ -113,7 +126,20 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
 
 
 def gate_rows(name: str, case: Callable[[bool], list[ValidationRow]]) -> list[ValidationRow]:
-    """The gate's rows of case ``name`` whose tier function (``rows(quick)``) is ``case``."""
+    """The gate's rows of case ``name`` whose tier function (``rows(quick)``) is ``case``.
+
+    Parameters
+    ----------
+    name : str
+        Case name; its entry in :data:`GATE` decides what runs (a case without one runs its
+        quick rows).
+    case : callable
+        The case's ``rows(quick)`` function.
+
+    Returns
+    -------
+    list of ValidationRow
+    """
     how = GATE.get(name, "quick")
     if how == "full":
         return case(False)

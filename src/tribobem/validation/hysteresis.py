@@ -33,7 +33,31 @@ __all__ = ["CASES", "mindlin_deresiewicz_delta"]
 
 
 def mindlin_deresiewicz_delta(Q, branch: str, Q_star: float, mu: float, P: float, a: float, k: float):
-    """Mindlin-Deresiewicz tangential displacement (m) on a branch (SPEC 7, corrected Eq. 2.27c)."""
+    """Mindlin-Deresiewicz tangential displacement (m) on a branch (SPEC 7, corrected Eq. 2.27c).
+
+    Parameters
+    ----------
+    Q : float or array_like
+        Tangential force (N).
+    branch : {"loading", "unloading", "reloading"}
+        The virgin curve (Cattaneo-Mindlin), the branch from +Q* or the branch from -Q*.
+    Q_star : float
+        Turning-point amplitude (N); not used on the loading branch.
+    mu : float
+        Friction coefficient.
+    P : float
+        Normal force (N).
+    a : float
+        Contact radius (m).
+    k : float
+        Tangential compliance (1/Pa), see
+        :func:`~tribobem.analytic.mindlin.mindlin_compliance_k`.
+
+    Returns
+    -------
+    float or ndarray
+        Tangential displacement (m), shape of ``Q``.
+    """
 
     if branch == "loading":
         return md.cattaneo_mindlin_displacement(Q, P=P, a=a, mu=mu, k=k)

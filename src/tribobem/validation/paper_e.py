@@ -53,6 +53,18 @@ def _indicator(case: str, quantity: str, ok: bool):
 
 
 def paper_e_rows(quick: bool) -> list:
+    """Rows of ``paper_e`` (module docstring).
+
+    Parameters
+    ----------
+    quick : bool
+        48^2 and 12 steps per cycle, F0+ on 128^2 (else 96^2, 16 steps, F0+ on 256^2 and
+        the comparison with Paper E's published F0+).
+
+    Returns
+    -------
+    list of ValidationRow
+    """
     from .paper_e_model import WORKS, loop_metrics, md_state, paper_e_loop, start_state
     from .references import PAPER_E_SMOOTH_REPULSIVE_FORCE
 

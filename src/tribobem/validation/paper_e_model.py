@@ -28,9 +28,10 @@ F* = 0.999 mu F0+ is ``peak="repulsive"`` (adapted just below the largest carrie
 
 The domain is -2a < x, y < 2a (Paper E) with ``a`` the analytic contact radius: Maugis-Dugdale
 at F0 for dgamma > 0 (:func:`md_state`), Hertz for dgamma = 0.  Paper E uses 256^2 cells (dx 2 to
-6 nm); a whole loop at 256^2 costs ~1 h on two cores here, so the published study uses a
-coarser grid and reports the cells across the contact and across the cohesive zone c - a (the
-adhesive cases are under-resolved below ``MIN_COHESIVE_CELLS`` cells across c - a).
+6 nm); a whole loop at 256^2 is too costly for a study over every dgamma (run time:
+benchmarks/README.md), so the published study uses a coarser grid and reports the cells across
+the contact and across the cohesive zone c - a (the adhesive cases are under-resolved below
+``MIN_COHESIVE_CELLS`` cells across c - a).
 
 Points (Paper E Fig. 3): ``A`` the start (F_x = 0, one-shot solve), ``A'`` the first step,
 ``D`` the first turning point (+F*), ``D'`` the step after it, ``H`` (-F*, cycle 1) and ``H'``,
@@ -107,10 +108,32 @@ def md_state(work_of_adhesion: float, *, radius: float = RADIUS, E: float = E_FL
     """Analytic state of the smooth ball at ``force``: Maugis-Dugdale (stable branch) for
     dgamma > 0, Hertz for dgamma = 0.
 
-    Returns a dict: ``contact_radius`` a, ``cohesive_radius`` c (m), ``maugis`` lambda,
-    ``sigma0`` (Pa), ``adhesive_force`` (the integral of p < 0: the -sigma0 annulus a < r < c and
-    the tensile rim inside the contact, N, <= 0), ``repulsive_force`` (force minus it: the
-    analytic F0+) and ``mindlin_k`` = (2 - nu)/G of the flat (the rigid ball adds nothing).
+    Parameters
+    ----------
+    work_of_adhesion : float
+        dgamma (J/m^2), >= 0.
+    radius : float
+        Ball radius R (m).
+    E, nu : float
+        Young's modulus (Pa) and Poisson's ratio of the flat (the ball is rigid).
+    force : float
+        Normal force F0 (N).
+    z0 : float
+        Dugdale equilibrium distance (m).
+
+    Returns
+    -------
+    dict
+        ``contact_radius`` a, ``cohesive_radius`` c (m), ``maugis`` lambda, ``sigma0`` (Pa),
+        ``adhesive_force`` (the integral of p < 0: the -sigma0 annulus a < r < c and the
+        tensile rim inside the contact, N, <= 0), ``repulsive_force`` (force minus it: the
+        analytic F0+, N) and ``mindlin_k`` = (2 - nu)/G of the flat (1/Pa; the rigid ball adds
+        nothing).
+
+    Raises
+    ------
+    InputError
+        A negative or non-finite work of adhesion.
     """
     E_star = _pair(E, nu).effective_modulus
     G = E / (2.0 * (1.0 + nu))
@@ -137,8 +160,47 @@ def md_state(work_of_adhesion: float, *, radius: float = RADIUS, E: float = E_FL
 def paper_e_problem(work_of_adhesion: float, n: int, *, half_width: float = 2.0, radius: float = RADIUS,
                     E: float = E_FLAT, nu: float = NU_FLAT, force: float = FORCE, z0: float = Z0,
                     backend: str = "numpy"):
-    """(grid, gap, 3x3 free-boundary operator, adhesion or None, analytic state) of Paper E 3.2
-    on n^2 cells over -k a < x, y < k a, k = ``half_width``, a the analytic contact radius."""
+    """The Paper E 3.2 problem on n^2 cells over -k a < x, y < k a.
+
+    k = ``half_width``, a the analytic contact radius (:func:`md_state`), so that the domain
+    follows the contact as dgamma changes.
+
+    Parameters
+    ----------
+    work_of_adhesion : float
+        dgamma (J/m^2), 0 for no adhesion.
+    n : int
+        Cells per side (>= 8).
+    half_width : float
+        Half side of the domain in units of a (> 1; the domain must hold the cohesive zone).
+    radius : float
+        Ball radius R (m).
+    E, nu : float
+        Young's modulus (Pa) and Poisson's ratio of the flat (the ball is rigid).
+    force : float
+        Normal force F0 (N).
+    z0 : float
+        Dugdale equilibrium distance (m).
+    backend : str
+        Array backend of the operator (``"numpy"``, ...).
+
+    Returns
+    -------
+    grid : Grid
+    gap : ndarray
+        Paraboloid gap of the ball (m).
+    operator
+        3x3 (x, y, z) free-boundary operator.
+    adhesion : DugdaleAdhesion or None
+        None for dgamma = 0.
+    md : dict
+        The analytic state, :func:`md_state`.
+
+    Raises
+    ------
+    InputError
+        ``n`` < 8, ``half_width`` <= 1 or a domain that does not hold the cohesive zone.
+    """
     if not (isinstance(n, (int, np.integer)) and n >= 8):
         raise InputError("n", f"must be an integer >= 8, got {n!r}")
     if not (math.isfinite(half_width) and half_width > 1.0):
@@ -158,10 +220,32 @@ def start_state(work_of_adhesion: float, n: int, *, friction_coefficient: float 
     """The coupled F_x = 0 state alone (point A) on n^2 cells over +-2a: cheap enough for Paper E's
     256^2 and finer, for the grid convergence of F0+ (the loops run on coarser grids).
 
-    Returns a dict: ``work_of_adhesion``, ``n``, ``dx``, ``repulsive_force``, ``adhesive_force``,
-    ``stick_ratio``, ``contact_radius``, ``cohesive_radius`` (equivalent radii),
-    ``cells_across_contact``, ``cells_across_cohesive_zone`` (numerical and ``md_`` analytic),
-    ``md_repulsive_force``, ``converged``, ``wall_time``, ``cpu_time``.
+    Parameters
+    ----------
+    work_of_adhesion : float
+        dgamma (J/m^2), 0 for no adhesion.
+    n : int
+        Cells per side.
+    friction_coefficient : float
+        mu.
+    force : float
+        Normal force F0 (N).
+    half_width : float
+        Half side of the domain in units of a.
+    backend : str
+        Array backend of the operator.
+    **solver_kw
+        Passed to :func:`~tribobem.solvers.coupling.solve_coupled` (over
+        :data:`DEFAULT_SOLVER`).
+
+    Returns
+    -------
+    dict
+        ``work_of_adhesion`` (J/m^2), ``n``, ``dx`` (m), ``repulsive_force``,
+        ``adhesive_force`` (N), ``stick_ratio``, ``contact_radius``, ``cohesive_radius``
+        (equivalent radii, m), ``cells_across_contact``, ``cells_across_cohesive_zone``
+        (numerical and ``md_`` analytic), ``md_repulsive_force`` (N), ``converged``,
+        ``wall_time``, ``cpu_time`` (s).
     """
     t0, c0 = time.perf_counter(), time.process_time()
     grid, gap, op, ad, md = paper_e_problem(work_of_adhesion, n, half_width=half_width, force=force, backend=backend)
@@ -196,6 +280,60 @@ class PaperELoop:
     (its delta_x minus delta_x at A); ``ramp_*`` the ramp's states with stick (delta from A).
     ``peak`` says how F* was chosen (see :func:`paper_e_loop`); ``amplitude`` = F* / (mu F0+ of
     A).
+
+    Attributes
+    ----------
+    work_of_adhesion : float
+        dgamma (J/m^2).
+    n : int
+        Cells per side.
+    size, dx : float
+        Domain side and cell size (m).
+    half_width : float
+        Half side of the domain in units of the analytic a.
+    friction_coefficient : float
+        mu.
+    normal_force : float
+        F0 (N).
+    z0 : float
+        Dugdale equilibrium distance (m).
+    steps_per_cycle : int
+        Path steps per full cycle.
+    peak : str
+        ``"onset"`` or ``"repulsive"``.
+    amplitude, amplitude_requested, amplitude_limit : float
+        F* / (mu F0+ of A) used, requested, and the largest carried fraction found when the
+        requested one slipped (NaN otherwise).
+    peak_force : float
+        F* (N).
+    repulsive_force, adhesive_force : float
+        F0+ and F0- at A (N).
+    contact_radius, cohesive_radius : float
+        Equivalent radii a, c at A (m).
+    md : dict
+        The analytic state, :func:`md_state`.
+    onset_force : float
+        Gross-slip onset of the first loading, bracket midpoint (N); NaN without onset.
+    onset_bracket : tuple of float
+        The bisection bracket of the onset (N).
+    onset_repulsive_force, onset_presliding_displacement, onset_stick_ratio : float
+        F0+ (N), delta_x - delta_x(A) (m) and the stick ratio of the last state with stick.
+    ramp_forces, ramp_displacements, ramp_stick_ratios, ramp_repulsive_forces : ndarray
+        The ramp's states with stick: F_x (N), delta_x - delta_x(A) (m), stick ratio, F0+ (N).
+    forces, displacements, stick_ratios, repulsive_forces : ndarray
+        Per step (A first): F_x (N), delta_x (m), A_stick / A_contact, F0+ (N).
+    cycles, branches, turning, converged : ndarray
+        Per step: cycle number, branch name, turning-point flag, convergence flag.
+    points : dict
+        Named points -> step indices.
+    loop_energies : list of float
+        Energy dissipated per cycle (J).
+    wall_time, cpu_time : float
+        Cost of the run (s).
+    message : str
+        Messages of the ramp and the loop.
+    extra : dict
+        Free-form additions of a study.
     """
 
     work_of_adhesion: float
@@ -324,10 +462,21 @@ def paper_e_loop(
         force cannot be carried: the loop is then rerun at ``(1 - margin)`` x the largest carried
         force (up to three times; the amplitude used, the one requested and that limit are
         recorded), and the turning points are in full slip (their displacement not pinned).
+    amplitude : float
+        Fraction in (0, 1] of the force that ``peak`` names (0.999: Paper E's "0.999 mu F0+").
     ramp_fractions : sequence of float
         Values F_x / (mu F0+ of A) of the onset ramp (increasing, in (0, 1]).
+    refine_tol : float
+        Bisection tolerance of the onset, in units of mu F0+ of A.
+    half_width : float
+        Half side of the domain in units of the analytic a.
     radius, E, nu, force, friction_coefficient, z0 : float
         Paper E: 50 um, 70 GPa, 0.3, 10 uN, 0.2; z0 = 0.2 nm (not in Paper E).
+    backend : str
+        Array backend of the operator.
+    margin : float
+        Relative distance below the largest carried force when F* is not carried
+        (``peak="repulsive"``, above).
     progress : callable, optional
         ``progress(done, total)`` along the loop.
     **solver_kw
@@ -337,6 +486,14 @@ def paper_e_loop(
     Returns
     -------
     PaperELoop
+
+    Raises
+    ------
+    InputError
+        An unknown ``peak``, ``amplitude`` outside (0, 1], bad ``ramp_fractions`` or problem
+        parameters.
+    GrossSlipError
+        F* still not carried after three reductions.
     """
     if peak not in ("onset", "repulsive"):
         raise InputError("peak", f"must be 'onset' or 'repulsive', got {peak!r}")
@@ -423,6 +580,18 @@ def paper_e_loop(
 def loop_metrics(loop: PaperELoop) -> dict:
     """The scalar measures of one loop (see the module docstring), SI units.
 
+    Parameters
+    ----------
+    loop : PaperELoop
+        A run of :func:`paper_e_loop`.
+
+    Returns
+    -------
+    dict
+        Flat dict of scalars (N, m, J, s or dimensionless), described below.
+
+    Notes
+    -----
     Keys: ``repulsive_force``, ``adhesive_force`` (at A), ``md_repulsive_force``,
     ``md_adhesive_force``, ``static_friction`` (F at D = F*), ``static_friction_ratio``
     (F(D) / (mu F0+ of A)), ``static_friction_over_mu_f0`` (F(D) / (mu F0), Paper E Fig. 9's

@@ -47,7 +47,13 @@ from ..materials import ContactPair, Material
 from .common import _row
 from ..analytic import spence_stick_ratio
 from ..analytic.hertz import hertz
-from ..analytic.mindlin import mindlin_compliance_k, cattaneo_mindlin_displacement, cattaneo_stick_ratio, cattaneo_mindlin_traction, mindlin_initial_stiffness
+from ..analytic.mindlin import (
+    cattaneo_mindlin_displacement,
+    cattaneo_mindlin_traction,
+    cattaneo_stick_ratio,
+    mindlin_compliance_k,
+    mindlin_initial_stiffness,
+)
 from ..elasticity.operators import make_operator, free_boundary_operator
 from ..solvers.coupling import solve_coupled
 from ..solvers.normal import solve_normal
@@ -73,7 +79,30 @@ def _mindlin_k(pair: ContactPair) -> float:
 
 
 def cattaneo_problem(n: int, periodic: bool = False, radius: float = 10e-3, force: float = 10.0):
-    """Grid, gap, operator and Hertz radius of the identical-steel sphere (free or periodic)."""
+    """Grid, gap, operator and Hertz radius of the identical-steel sphere (free or periodic).
+
+    Parameters
+    ----------
+    n : int
+        Cells per side.
+    periodic : bool
+        Periodic cell of side 6 a (else a free-boundary domain of side 3 a).
+    radius : float
+        Sphere radius (m).
+    force : float
+        Normal force (N); sets the Hertz contact radius a and so the domain.
+
+    Returns
+    -------
+    grid : Grid
+    gap : ndarray
+        Paraboloid gap r^2/(2R) (m).
+    op : operator
+        Three-component (x, y, z) operator of the steel-steel pair.
+    pair : ContactPair
+    a : float
+        Hertz contact radius (m).
+    """
 
     pair = ContactPair(STEEL, STEEL)
     a = float(hertz(force=force, radius=radius, E_star=pair.effective_modulus).contact_radius)
