@@ -63,7 +63,14 @@ _pocketfft = _private_pocketfft()
 
 
 def available_fft_engines() -> list[str]:
-    """The CPU FFT engines that import here, fastest first (``scipy`` always)."""
+    """The CPU FFT engines that import here, fastest first (``scipy`` always).
+
+    Returns
+    -------
+    list of str
+        Engine names in the order of ``pyfftw``, ``mkl_fft``, ``scipy`` (the order of their
+        speed on one convolution); ``scipy`` is always last, as the fallback.
+    """
     out = []
     for name in _ENGINES[:-1]:
         try:
@@ -75,7 +82,18 @@ def available_fft_engines() -> list[str]:
 
 
 def default_fft() -> str:
-    """The CPU FFT engine: env ``TRIBOBEM_FFT`` or ``auto`` (the fastest installed)."""
+    """The CPU FFT engine: env ``TRIBOBEM_FFT`` or ``auto`` (the fastest installed).
+
+    Returns
+    -------
+    str
+        One of ``"pyfftw"``, ``"mkl_fft"``, ``"scipy"``.
+
+    Raises
+    ------
+    InputError
+        When ``TRIBOBEM_FFT`` names no known engine.
+    """
     env = os.environ.get("TRIBOBEM_FFT", "auto").strip().lower() or "auto"
     if env == "auto":
         return available_fft_engines()[0]
@@ -87,7 +105,13 @@ def default_fft() -> str:
 
 
 def default_workers() -> int:
-    """Threads for ``scipy.fft`` (env ``TRIBOBEM_FFT_WORKERS`` overrides; default all cores)."""
+    """Threads for ``scipy.fft`` (env ``TRIBOBEM_FFT_WORKERS`` overrides; default all cores).
+
+    Returns
+    -------
+    int
+        The number of FFT threads, at least 1.
+    """
     env = os.environ.get("TRIBOBEM_FFT_WORKERS")
     if env:
         return max(1, int(env))
@@ -102,7 +126,14 @@ SMALL_FFT = 512 * 512
 
 def default_small_fft_threads() -> int | None:
     """Threads for transforms of <= SMALL_FFT points: 1, or None (= ``workers``) when the env
-    ``TRIBOBEM_FFT_WORKERS`` sets the threads explicitly."""
+    ``TRIBOBEM_FFT_WORKERS`` sets the threads explicitly.
+
+    Returns
+    -------
+    int or None
+        1 by default (a second thread costs more than it saves on small grids, see
+        ``SMALL_FFT``); None when the user chose the thread count, which then holds for all sizes.
+    """
     return None if os.environ.get("TRIBOBEM_FFT_WORKERS") else 1
 
 
@@ -135,13 +166,26 @@ class Backend:
             raise InputError("solver.fft", f"must be one of {', '.join(_ENGINES)}; got {self.fft!r}")
 
     def threads(self, shape) -> int:
-        """Threads for one transform on the grid ``shape`` (see ``SMALL_FFT``)."""
+        """Threads for one transform on the grid ``shape`` (see ``SMALL_FFT``).
+
+        Parameters
+        ----------
+        shape : tuple of int
+            The (padded) transform grid, nodes.
+
+        Returns
+        -------
+        int
+            ``workers`` above ``SMALL_FFT`` points (or when ``small_fft_threads`` is None), else
+            ``small_fft_threads`` capped by ``workers``.
+        """
         if self.small_fft_threads is None or int(shape[0]) * int(shape[1]) > SMALL_FFT:
             return self.workers
         return max(1, min(self.workers, self.small_fft_threads))
 
     @property
     def xp(self):
+        """The array module of this backend: :mod:`numpy`, or :mod:`cupy` (imported on first use)."""
         if self.name == "numpy":
             return np
         import cupy
@@ -149,7 +193,20 @@ class Backend:
         return cupy
 
     def rfft2(self, a, s=None):
-        """2-D real FFT of ``a`` (zero-padded to ``s``); a new array."""
+        """2-D real FFT of ``a`` (zero-padded to ``s``); a new array.
+
+        Parameters
+        ----------
+        a : array
+            Real field on this backend (any unit; the transform is unnormalised).
+        s : tuple of int, optional
+            Transform grid (N1, N2) >= ``a.shape``; None: ``a.shape``.
+
+        Returns
+        -------
+        array
+            Complex spectrum of shape (N1, N2 // 2 + 1), a fresh array (never a shared plan buffer).
+        """
         if self.name == "numpy":
             if self.fft == "pyfftw":
                 return self._fftw_rfft2(a, s)
@@ -163,7 +220,20 @@ class Backend:
         return cfft.rfft2(a, s=s)
 
     def irfft2(self, a, s):
-        """Inverse of :meth:`rfft2` on the grid ``s``; a new array (``a`` is not modified)."""
+        """Inverse of :meth:`rfft2` on the grid ``s``; a new array (``a`` is not modified).
+
+        Parameters
+        ----------
+        a : array
+            Complex spectrum of shape (N1, N2 // 2 + 1).
+        s : tuple of int
+            The real grid (N1, N2) (needed: N2 is not determined by the half spectrum).
+
+        Returns
+        -------
+        array
+            Real field of shape ``s``, normalised so that ``irfft2(rfft2(x), x.shape) == x``.
+        """
         if self.name == "numpy":
             if self.fft == "pyfftw":
                 return self._fftw_irfft2(a, s)
@@ -184,8 +254,23 @@ class Backend:
         With scipy.fft: the real FFT along y of the m1 rows only (the N1 - m1 padding rows
         transform to zero), then the complex FFT along x in place; written into ``out``
         (complex, N1 x (N2/2 + 1)) when given, through pocketfft's ``out`` argument (no fresh
-        multi-MB array per call: their page faults cost 20-40 % of a transform).  Other engines
-        and backends: :meth:`rfft2`.
+        multi-MB array per call: their page faults cost a sizeable part of a transform, figures in
+        benchmarks/README.md).  Other engines and backends: :meth:`rfft2`.
+
+        Parameters
+        ----------
+        a : array
+            Real field of shape (m1, m2).
+        s : tuple of int
+            Padded transform grid (N1, N2), N1 >= m1, N2 >= m2.
+        out : ndarray, optional
+            Complex work array of shape (N1, N2 // 2 + 1) to write into (scipy.fft path only).
+
+        Returns
+        -------
+        array
+            The complex spectrum (N1, N2 // 2 + 1): ``out`` when given on the scipy.fft path,
+            else a new array.
         """
         if not self._lean():
             return self.rfft2(a, s=s)
@@ -210,6 +295,23 @@ class Backend:
         With scipy.fft ``A`` is overwritten (the inverse FFT along x in place), then the real
         inverse FFT along y of the kept rows only (into ``out``, real rows x N2, when given).
         Other engines and backends: :meth:`irfft2` (``A`` kept) and a slice.
+
+        Parameters
+        ----------
+        A : array
+            Complex spectrum of shape (N1, N2 // 2 + 1); overwritten on the scipy.fft path.
+        s : tuple of int
+            The real grid (N1, N2).
+        rows : int
+            Number of leading rows to return (the unpadded m1: the padding rows are never needed).
+        out : ndarray, optional
+            Real work array of shape (rows, N2) to write into (scipy.fft path only).
+
+        Returns
+        -------
+        array
+            Real array of shape (rows, N2): ``out`` when given on the scipy.fft path, else new
+            (on the other paths a slice of the full inverse).
         """
         if not self._lean():
             return self.irfft2(A, s=s)[:rows]
@@ -284,11 +386,35 @@ class Backend:
             return np.multiply(r, 1.0 / (s[0] * s[1]))
 
     def asarray(self, a, dtype=None):
-        """Move ``a`` to this backend (no copy when it already lives there)."""
+        """Move ``a`` to this backend (no copy when it already lives there).
+
+        Parameters
+        ----------
+        a : array_like
+            Host or device data.
+        dtype : dtype, optional
+            Target dtype; None keeps ``a``'s.
+
+        Returns
+        -------
+        array
+            ``a`` as an array of :attr:`xp`.
+        """
         return self.xp.asarray(a, dtype=dtype)
 
     def to_numpy(self, a) -> np.ndarray:
-        """Bring an array back to host memory as a NumPy array."""
+        """Bring an array back to host memory as a NumPy array.
+
+        Parameters
+        ----------
+        a : array
+            A NumPy or CuPy array.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``a`` itself on the host (no copy), or a host copy of a device array.
+        """
         if self.name == "numpy" or isinstance(a, np.ndarray):
             return np.asarray(a)
         return a.get()
@@ -296,7 +422,20 @@ class Backend:
 
 def work_buffers(owner) -> dict:
     """A dict of reusable work arrays attached to ``owner``, one per thread (operators and
-    backends are shared by the threads of a threaded Dask worker)."""
+    backends are shared by the threads of a threaded Dask worker).
+
+    Parameters
+    ----------
+    owner : object
+        The object the buffers belong to (an operator or a backend); a thread-local store is
+        set on its ``__dict__`` on first use (so it works on frozen dataclasses too).
+
+    Returns
+    -------
+    dict
+        This thread's buffers of ``owner``, keyed by whatever the caller chooses; callers clear
+        it when it grows (a bounded cache, not a registry).
+    """
     tls = owner.__dict__.get("_tls")
     if tls is None:
         tls = owner.__dict__.setdefault("_tls", threading.local())
@@ -307,7 +446,13 @@ def work_buffers(owner) -> dict:
 
 
 def cupy_available() -> bool:
-    """True when CuPy imports and sees at least one CUDA device."""
+    """True when CuPy imports and sees at least one CUDA device.
+
+    Returns
+    -------
+    bool
+        False on any import or CUDA runtime error (a missing driver is not an error here).
+    """
     try:
         import cupy
 

@@ -24,6 +24,22 @@ def get_backend(name: str = "numpy") -> Backend:
     ``"strict"`` is the testing backend of :mod:`tribobem.elasticity.strict` (NumPy underneath,
     CuPy's host/device rules: a host array reaching the device array module fails without a
     GPU); scenarios do not offer it.
+
+    Parameters
+    ----------
+    name : {"numpy", "cupy", "strict"}
+        The backend's name, as ``[solver] backend`` spells it.
+
+    Returns
+    -------
+    Backend
+        The backend, cached per name (one instance, and so one set of FFT plans and work
+        buffers, per process).
+
+    Raises
+    ------
+    InputError
+        For an unknown name, or ``"cupy"`` without CuPy or a CUDA device.
     """
     if name == "strict":
         return strict_backend()

@@ -32,14 +32,31 @@ def convolve(op, traction, out=None, spectrum=None):
     an in-place inverse FFT along x on the (owned) product spectrum followed by a real
     inverse FFT along y (of the nx rows kept, for the zero-padded free-boundary operator),
     instead of ``irfft2``, which copies the spectrum first: the same arithmetic (equal
-    results, tested), 0.65-0.8x the CPU time of ``op.apply`` at 256^2-2048^2 and one
+    results, tested), less CPU time than ``op.apply`` (figures in benchmarks/README.md) and one
     complex half-spectrum less at the peak.  Other engines and backends: ``op.apply``.
 
     ``out`` (real, ``grid.shape``) and ``spectrum`` (complex, the rfft2 shape), periodic
     operator only: work buffers reused across calls.  Each transform then writes into them
     (pocketfft's ``out`` argument): no fresh arrays, whose first touch (page faults, zeroing)
-    costs 20-40 % of a convolution at 512^2-1024^2; the result is ``out``.  ``out`` must not
-    be ``traction``.
+    costs a sizeable part of a convolution on large grids; the result is ``out``.  ``out`` must
+    not be ``traction``.
+
+    Parameters
+    ----------
+    op : ConvolutionOperator
+        A single-component operator (e.g. ``op.normal``); multi-component ones go to
+        ``op.apply``.
+    traction : array, shape ``grid.shape``
+        Traction (Pa).
+    out : ndarray, optional
+        Real work array of ``grid.shape`` for the result (not ``traction``).
+    spectrum : ndarray, optional
+        Complex work array of the rfft2 shape (nx, ny // 2 + 1), overwritten.
+
+    Returns
+    -------
+    array, shape ``grid.shape``
+        Displacement (m): ``out`` when it was given, else a new array.
     """
     be = op.backend
     spec = op.spectra.get("zz") if len(op.components) == 1 else None
@@ -85,7 +102,19 @@ def convolve(op, traction, out=None, spectrum=None):
 
 def convolve_buffers(op):
     """(out, spectrum) work buffers for :func:`convolve` on ``op``, or (None, None) where
-    it would not use them (other engines, backends, the zero-padded operator)."""
+    it would not use them (other engines, backends, the zero-padded operator).
+
+    Parameters
+    ----------
+    op : ConvolutionOperator
+        The operator the buffers are for.
+
+    Returns
+    -------
+    tuple
+        ``(out, spectrum)``: a real ``grid.shape`` array and a complex (nx, ny // 2 + 1) array
+        (uninitialised), or ``(None, None)``.
+    """
     be = op.backend
     if (_pocketfft is None or be.name != "numpy" or be.fft != "scipy" or len(op.components) != 1
             or tuple(op.fft_shape) != tuple(op.grid.shape) or op.spectra.get("zz") is None):
@@ -102,8 +131,23 @@ class KernelColumns:
     node (two contiguous segments), which is right for y >= jy and one row off for y < jy;
     those y (or, when jy > ny/2, the roll by one row less and the y >= jy) are corrected
     with the row difference D[x] = k[x] - k[x - 1] of the kernel: about 3 passes over the
-    grid, 1/10-1/17 of a convolution (measured, 256^2-2048^2).  Free-boundary operator: four
-    2-D slice blocks of the 2nx x 2ny kernel (strided, about 2.5x slower per column).
+    grid, an order of magnitude cheaper than a convolution (figures in benchmarks/README.md).
+    Free-boundary operator: four 2-D slice blocks of the 2nx x 2ny kernel (strided, so slower
+    per column than the periodic case).
+
+    Parameters
+    ----------
+    op : ConvolutionOperator
+        A single-component operator (``op.normal``); its kernel (m/Pa per node) is inverted
+        once here.
+    spectrum : ndarray, optional
+        Complex work buffer of the rfft2 shape (see :func:`convolve_buffers`), to invert the
+        kernel spectrum without temporaries (periodic operator only).
+
+    Raises
+    ------
+    ValueError
+        When ``op`` has more than one component.
     """
 
     def __init__(self, op, spectrum=None):
@@ -133,7 +177,20 @@ class KernelColumns:
             xp.subtract(k[:1], k[-1:], out=D[:1])
     @classmethod
     def of(cls, op, spectrum=None) -> "KernelColumns":
-        """The (cached) columns of ``op``."""
+        """The (cached) columns of ``op``.
+
+        Parameters
+        ----------
+        op : ConvolutionOperator
+            A single-component operator; the columns are cached on it, so the kernel's inverse
+            FFT is done once per operator.
+        spectrum : ndarray, optional
+            Work buffer passed to the constructor on the first call only.
+
+        Returns
+        -------
+        KernelColumns
+        """
         cols = op.__dict__.get("_kernel_columns")
         if cols is None:
             cols = op.__dict__["_kernel_columns"] = cls(op, spectrum)
@@ -217,7 +274,18 @@ class KernelColumns:
             o += tmp
 
     def column(self, j: int):
-        """K e_j on the grid (a new array), for tests."""
+        """K e_j on the grid (a new array), for tests.
+
+        Parameters
+        ----------
+        j : int
+            Flat (row-major) index of the loaded node.
+
+        Returns
+        -------
+        array, shape ``grid.shape``
+            Displacement (m) from a unit pressure (1 Pa) on node j.
+        """
         xp = self.xp
         u = xp.zeros(self.shape)
         self.add(u, [j], [1.0], xp.empty(self.shape))

@@ -99,6 +99,22 @@ def composite_coefficients(component: str, pair: ContactPair, x, y, dx: float, d
     Normal and in-plane parts add (both bodies displace into themselves); the normal-
     tangential coupling (``"xz", "zx", "yz", "zy"``) subtracts, since body 2 carries the
     opposite traction.  ``"zz"`` integrates 1/(pi E* rho).
+
+    Parameters
+    ----------
+    component : str
+        Block key ``out + in`` (e.g. ``"zz"``, ``"xz"``: u_x from q_z).
+    pair : ContactPair
+        The two bodies; a rigid body contributes nothing.
+    x, y : array_like
+        Offsets (m) of the observation points from the loaded cell's centre.
+    dx, dy : float
+        Cell size (m).
+
+    Returns
+    -------
+    ndarray
+        Displacement (m) of the interface per unit traction (Pa) on the cell.
     """
     c1 = single_body_coefficients(component, pair.body1, x, y, dx, dy)
     c2 = single_body_coefficients(component, pair.body2, x, y, dx, dy)
@@ -108,7 +124,23 @@ def composite_coefficients(component: str, pair: ContactPair, x, y, dx: float, d
 
 
 def point_kernel(component: str, material: Material, x, y) -> np.ndarray:
-    """Point-load kernels of one half-space (SPEC 2), used to verify the coefficients."""
+    """Point-load kernels of one half-space (SPEC 2), used to verify the coefficients.
+
+    Parameters
+    ----------
+    component : str
+        Block key ``out + in``: ``"zz"``, ``"xx"``, ``"yy"``, ``"xy"``/``"yx"``, or a coupling
+        block ``"zx"``, ``"xz"``, ``"zy"``, ``"yz"``.
+    material : Material
+        The half-space (shear modulus G in Pa, Poisson ratio nu).
+    x, y : array_like
+        Offsets (m) of the observation points from the point load (not both 0: singular there).
+
+    Returns
+    -------
+    ndarray
+        Displacement (m) per unit point force (N), i.e. in m/N.
+    """
     G, nu = material.shear_modulus, material.nu
     x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
     rho = np.hypot(x, y)

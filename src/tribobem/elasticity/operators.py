@@ -79,18 +79,34 @@ class ConvolutionOperator:
 
     @property
     def periodic(self) -> bool:
+        """Whether the grid is periodic (spectral operator) rather than free-boundary (DC-FFT)."""
         return self.grid.periodic
 
     @property
     def xp(self):
+        """The array module of the backend (:mod:`numpy` or :mod:`cupy`)."""
         return self.backend.xp
 
     @property
     def effective_modulus(self) -> float:
+        """The pair's effective modulus E* (Pa)."""
         return self.pair.effective_modulus
 
     def block(self, out: str, inp: str) -> "ConvolutionOperator":
-        """The single-component operator giving u_out from traction_in."""
+        """The single-component operator giving u_out from traction_in.
+
+        Parameters
+        ----------
+        out, inp : {"x", "y", "z"}
+            Displacement and traction components.
+
+        Returns
+        -------
+        ConvolutionOperator
+            A ``("z",)``-component operator (the single-component convention the normal solvers
+            take) whose only spectrum is the ``out + inp`` block; no spectrum when the block is
+            zero.  Cached on this operator.
+        """
         key = out + inp
         if key not in self._blocks:
             spec = {"zz": self.spectra[key]} if key in self.spectra else {}
@@ -105,9 +121,34 @@ class ConvolutionOperator:
         return self if self.components == ("z",) else self.block("z", "z")
 
     def spectrum(self, out: str = "z", inp: str = "z"):
+        """The rfft2 kernel spectrum of block ``out + inp`` (m/Pa, on ``fft_shape``); None if zero.
+
+        Parameters
+        ----------
+        out, inp : {"x", "y", "z"}
+            Displacement and traction components.
+
+        Returns
+        -------
+        array or None
+            Complex or real spectrum of shape (N1, N2 // 2 + 1) on the backend; None for a zero
+            block (the solvers then skip its convolution).
+        """
         return self.spectra.get(out + inp)
 
     def __call__(self, traction):
+        """Same as :meth:`apply`: displacements (m) from tractions (Pa).
+
+        Parameters
+        ----------
+        traction : array
+            Traction (Pa), shaped as :meth:`apply` says.
+
+        Returns
+        -------
+        array
+            Displacement (m), same shape as ``traction``.
+        """
         return self.apply(traction)
 
     def apply(self, traction):
@@ -403,7 +444,26 @@ def periodic_operator(grid: Grid, pair: ContactPair, components=("z",), kernel: 
 
 def make_operator(grid: Grid, pair: ContactPair, components=("z",), backend: str | Backend = "numpy",
                   **kw) -> ConvolutionOperator:
-    """The periodic or free-boundary operator, as ``grid.periodic`` says."""
+    """The periodic or free-boundary operator, as ``grid.periodic`` says.
+
+    Parameters
+    ----------
+    grid : Grid
+        The domain (sizes in m); ``grid.periodic`` picks the operator.
+    pair : ContactPair
+        The two bodies.
+    components : tuple of str
+        Traction / displacement components, a subset of ("x", "y", "z").
+    backend : str or Backend
+        "numpy" or "cupy"; the spectra live there.
+    **kw
+        Passed to :func:`periodic_operator` (``kernel``, ``n_alias``); ignored for the free
+        boundary, which has one kernel only.
+
+    Returns
+    -------
+    ConvolutionOperator
+    """
     if grid.periodic:
         return periodic_operator(grid, pair, components, backend=backend, **kw)
     return free_boundary_operator(grid, pair, components, backend=backend)

@@ -50,7 +50,13 @@ COUNTS = {"to_device": 0, "to_host": 0, "scalar": 0}
 
 
 def reset_counts() -> dict:
-    """The counts so far (a copy), then zero them."""
+    """The counts so far (a copy), then zero them.
+
+    Returns
+    -------
+    dict
+        ``{"to_device": int, "to_host": int, "scalar": int}`` as they were before the reset.
+    """
     out = dict(COUNTS)
     for k in COUNTS:
         COUNTS[k] = 0
@@ -142,7 +148,19 @@ def _apply_ufunc(ufunc, method: str, inputs, kwargs):
 class DeviceArray(NDArrayOperatorsMixin):
     """A 'device' array of the strict backend: a NumPy array behind CuPy's rules (see the
     module docstring).  Operators, ``np.<ufunc>`` and ``np.<function>`` on it dispatch to
-    NumPy with every operand checked; attributes and methods are NumPy's, results wrapped."""
+    NumPy with every operand checked; attributes and methods are NumPy's, results wrapped.
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        The host array to hold (not copied); create device arrays through
+        ``StrictBackend.asarray`` instead, which counts the transfer.
+
+    Raises
+    ------
+    TypeError
+        When ``a`` is not a NumPy array.
+    """
 
     __slots__ = ("_a",)
 
@@ -339,27 +357,80 @@ class _StrictNamespace:
 
 @lru_cache(maxsize=None)
 def strict_namespace() -> _StrictNamespace:
-    """The strict ``xp`` (one per process)."""
+    """The strict ``xp`` (one per process).
+
+    Returns
+    -------
+    _StrictNamespace
+        A read-only module-like namespace over :mod:`numpy` whose functions check their
+        operands and wrap their results in :class:`DeviceArray`.
+    """
     return _StrictNamespace(np)
 
 
 @dataclass(frozen=True)
 class StrictBackend(Backend):
     """The NumPy backend's arithmetic and FFTs behind CuPy's host/device rules (module
-    docstring).  ``name`` is ``"strict"``: the code paths are the non-NumPy (CuPy) ones."""
+    docstring).  ``name`` is ``"strict"``: the code paths are the non-NumPy (CuPy) ones.
+
+    Attributes
+    ----------
+    name : str
+        ``"strict"`` (any name but ``"numpy"`` takes the solvers' CuPy code paths, which is
+        what this backend tests).
+    """
 
     name: str = "strict"
 
     @property
     def xp(self):
+        """The strict array namespace (:func:`strict_namespace`)."""
         return strict_namespace()
 
     def rfft2(self, a, s=None):
+        """:meth:`Backend.rfft2` of a device array, by the NumPy backend's engine.
+
+        Parameters
+        ----------
+        a : DeviceArray
+            Real field.
+        s : tuple of int, optional
+            Transform grid; None: ``a.shape``.
+
+        Returns
+        -------
+        DeviceArray
+            The complex half spectrum.
+
+        Raises
+        ------
+        TypeError
+            When ``a`` is a host array (as CuPy's FFT refuses one).
+        """
         if not isinstance(a, DeviceArray):
             raise _unsupported(a, "rfft2")
         return DeviceArray(_host_backend(self.fft).rfft2(a._a, s=s))
 
     def irfft2(self, a, s):
+        """:meth:`Backend.irfft2` of a device array, by the NumPy backend's engine.
+
+        Parameters
+        ----------
+        a : DeviceArray
+            Complex half spectrum.
+        s : tuple of int
+            The real grid.
+
+        Returns
+        -------
+        DeviceArray
+            The real field of shape ``s``.
+
+        Raises
+        ------
+        TypeError
+            When ``a`` is a host array.
+        """
         if not isinstance(a, DeviceArray):
             raise _unsupported(a, "irfft2")
         return DeviceArray(_host_backend(self.fft).irfft2(a._a, s=s))
@@ -372,5 +443,11 @@ def _host_backend(fft: str) -> Backend:
 
 @lru_cache(maxsize=None)
 def strict_backend() -> StrictBackend:
-    """The strict testing backend (also ``get_backend("strict")``)."""
+    """The strict testing backend (also ``get_backend("strict")``).
+
+    Returns
+    -------
+    StrictBackend
+        One instance per process (cached, so its FFT plans are made once).
+    """
     return StrictBackend()

@@ -38,7 +38,20 @@ FIGURE_NAMES = ("hysteresis_loop", "capillary_forces", "pulloff_rh", "force_curv
                 "pressure_pulloff", "contact_pulloff", "topography")
 
 def topography_figure(ds, path) -> Path:
-    """Initial gap and the bodies' roughness (when present), as maps."""
+    """Initial gap and the bodies' roughness (when present), as maps.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run (fields.nc, :mod:`tribobem.output.fields`).
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path
+        The written PNG file.
+    """
     panels = [("initial_gap", "initial gap h")]
     for name in ("roughness_body1", "roughness_body2"):
         if name in ds and np.any(np.asarray(ds[name].values) != 0):
@@ -58,7 +71,22 @@ def topography_figure(ds, path) -> Path:
 
 def pressure_figure(ds, step: int, path) -> Path:
     """Pressure map; diverging colours centred on 0 when tensile stresses exist, with the
-    contact and cohesive zones outlined."""
+    contact and cohesive zones outlined.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run (fields.nc, :mod:`tribobem.output.fields`).
+    step : int
+        Position along the dataset's ``step`` dimension (not the summary.json row).
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path
+        The written PNG file.
+    """
     from matplotlib.colors import TwoSlopeNorm
     from matplotlib.lines import Line2D
 
@@ -93,7 +121,22 @@ def pressure_figure(ds, step: int, path) -> Path:
 
 
 def contact_figure(ds, step: int, path) -> Path:
-    """Contact (g = 0), cohesive zone (adhesive stress outside contact) and free nodes."""
+    """Contact (g = 0), cohesive zone (adhesive stress outside contact) and free nodes.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run (fields.nc, :mod:`tribobem.output.fields`).
+    step : int
+        Position along the dataset's ``step`` dimension (not the summary.json row).
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path
+        The written PNG file.
+    """
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
@@ -119,7 +162,22 @@ def contact_figure(ds, step: int, path) -> Path:
 
 
 def profile_figure(ds, step: int, path) -> Path:
-    """Gap and pressure along the centre line y = 0 (the row nearest to it)."""
+    """Gap and pressure along the centre line y = 0 (the row nearest to it).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run (fields.nc, :mod:`tribobem.output.fields`).
+    step : int
+        Position along the dataset's ``step`` dimension (not the summary.json row).
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path
+        The written PNG file.
+    """
     y = np.asarray(ds["y"].values)
     iy = int(np.argmin(np.abs(y)))
     x = np.asarray(ds["x"].values)
@@ -147,7 +205,20 @@ def profile_figure(ds, step: int, path) -> Path:
 
 def force_curve_figure(summary: dict, path) -> Path | None:
     """Force-approach curve: loading and unloading branches, pull-off and jumps marked.
-    None (nothing written) when the run has fewer than two steps."""
+    None (nothing written) when the run has fewer than two steps.
+
+    Parameters
+    ----------
+    summary : dict
+        The run summary (summary.json), its ``steps`` rows in particular.
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path or None
+        The written PNG file, or None when nothing was drawn.
+    """
     steps = [s for s in summary.get("steps", []) if s.get("normal_force") is not None and s.get("approach") is not None]
     if len(steps) < 2:
         return None
@@ -262,7 +333,21 @@ def _step_number(ds, step: int) -> int:
 def stickslip_steps(ds) -> list[int]:
     """Dataset steps the stick/slip maps show: the first tangential step (usually F_x = 0),
     the last one that still has stick nodes, and the one half-way between them (in step order).
-    Empty when the dataset has no tangential fields."""
+    Empty when the dataset has no tangential fields.
+
+    Three maps, not one per step: they show how the stick zone shrinks under the ramp without
+    drowning the report in maps.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run (fields.nc, :mod:`tribobem.output.fields`).
+
+    Returns
+    -------
+    list of int
+        Dataset step positions (at most three, distinct, increasing).
+    """
     steps = _tangential_step_indices(ds)
     if not steps:
         return []
@@ -318,6 +403,11 @@ def stickslip_figure(ds, step: int, path, *, mu: float | None = None, qmax: floa
     qmax : float, optional
         Traction (Pa) of the longest arrow; the step's own maximum when omitted (give a common
         value to compare the maps of several steps).
+
+    Returns
+    -------
+    Path
+        The written PNG file.
     """
     fig = new_figure(5.6, 5.6)
     ax = fig.add_subplot()
@@ -505,7 +595,20 @@ def _plot_branches(ax, xv, yv, rows, *, color=None, label=None, ls="-", marker="
 def stick_ratio_figure(summary: dict, path) -> Path | None:
     """Stick ratio and tangential displacement delta_x against F_nr = F_x/(mu F0+) (F0+ of
     each step), the gross-slip onset and the presliding displacement marked; one line per
-    branch.  Against F_x itself when mu is unknown.  None when the rows lack the data."""
+    branch.  Against F_x itself when mu is unknown.  None when the rows lack the data.
+
+    Parameters
+    ----------
+    summary : dict
+        The run summary (summary.json), its ``steps`` rows in particular.
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path or None
+        The written PNG file, or None when nothing was drawn.
+    """
     rows = _rows_with(summary, "tangential_force_x", "stick_ratio")
     if len(rows) < 2:
         return None
@@ -578,7 +681,20 @@ def stick_ratio_figure(summary: dict, path) -> Path | None:
 def stick_normal_figure(summary: dict, path) -> Path | None:
     """Stick ratio (and ``stick_radius_ratio`` when the rows have it) against the normal force
     of a normal-load path with friction (no tangential force).  None when the rows are not
-    such a path."""
+    such a path.
+
+    Parameters
+    ----------
+    summary : dict
+        The run summary (summary.json), its ``steps`` rows in particular.
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path or None
+        The written PNG file, or None when nothing was drawn.
+    """
     rows = _rows_with(summary, "normal_force", "stick_ratio")
     if len(rows) < 2:
         return None
@@ -622,7 +738,17 @@ def _tex_letter(letter: str) -> str:
 
 
 def is_hysteresis(summary: dict | None) -> bool:
-    """True for a hysteresis run: ``kind`` says so, or the step rows carry a ``cycle``."""
+    """True for a hysteresis run: ``kind`` says so, or the step rows carry a ``cycle``.
+
+    Parameters
+    ----------
+    summary : dict or None
+        The run summary (summary.json); None gives False.
+
+    Returns
+    -------
+    bool
+    """
     s = summary or {}
     if s.get("kind") == "hysteresis":
         return True
@@ -638,6 +764,11 @@ def turning_point_letters(rows: list) -> dict:
     -------
     dict
         Row index -> letter.
+
+    Parameters
+    ----------
+    rows : list of dict
+        The summary.json step rows of a hysteresis run (with ``cycle`` and ``branch``).
     """
     out = {}
     n = len(rows)
@@ -710,6 +841,11 @@ def mindlin_reference(summary: dict) -> dict | None:
         ``delta0`` (m), ``mu_p`` (mu F0+, N), ``peak`` (Q*, N), ``offset`` (delta_x of the start,
         m), ``radius`` (a, m), ``compliance`` (k = sum (2 - nu)/G, 1/Pa) and ``energy`` (the loop
         area per cycle, J).
+
+    Parameters
+    ----------
+    summary : dict
+        The run summary (summary.json) of a hysteresis run.
     """
     rows = _hysteresis_rows(summary)
     mu = _friction_coefficient(summary)
@@ -757,7 +893,20 @@ def hysteresis_loop_figure(summary: dict, path) -> Path | None:
     loading, dashed), Paper E's points marked (A, A', turning points D, H, L ... and D', H' ...),
     the Mindlin-Deresiewicz loop overlaid when it applies (:func:`mindlin_reference`); below,
     the stick ratio along the path against the step index, markers by branch.  None when the
-    rows lack F_x or delta_x."""
+    rows lack F_x or delta_x.
+
+    Parameters
+    ----------
+    summary : dict
+        The run summary (summary.json), its ``steps`` rows in particular.
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path or None
+        The written PNG file, or None when nothing was drawn.
+    """
     rows = _hysteresis_rows(summary)
     if not rows:
         return None
@@ -941,7 +1090,20 @@ def lateral_stiffness_figure(summary: dict, path) -> Path | None:
     """Lateral stiffness K_L against F_x/(mu F0+) at Paper F's points A, B, C (on the last
     branch from -F* to +F*): the fit of Paper F Eq. 3 (markers, and the fitted curve along the
     branch), the Mindlin-Deresiewicz branch slope through the same turning point, and Paper F
-    Eq. 6's virgin-curve value.  None without ``summary["lateral_stiffness"]``."""
+    Eq. 6's virgin-curve value.  None without ``summary["lateral_stiffness"]``.
+
+    Parameters
+    ----------
+    summary : dict
+        The run summary (summary.json), its ``steps`` rows in particular.
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path or None
+        The written PNG file, or None when nothing was drawn.
+    """
     table = _stiffness_table(summary)
     if not table:
         return None
@@ -1030,7 +1192,26 @@ def _cycle_maps(ds):
 def dissipation_figure(ds, path, cycle_index: int = -1, *, work: float | None = None) -> Path | None:
     """Frictional dissipation (J/m^2) and accumulated slip (nm) of one cycle, zoomed to the
     contact (nodes that never carried compressive contact are blank).  None when the fields
-    have no per-cycle maps."""
+    have no per-cycle maps.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of a hysteresis run, with the per-cycle maps ``dissipation`` (J/m^2) and
+        ``accumulated_slip`` (m).
+    path : path-like
+        The PNG file to write (atomically).
+    cycle_index : int
+        Position along the dataset's ``cycle`` dimension (default: the last cycle, the one closest
+        to the stationary loop).
+    work : float, optional
+        The cycle's traction work (J), quoted in the title.
+
+    Returns
+    -------
+    Path or None
+        The written PNG file, or None when nothing was drawn.
+    """
     if _cycle_maps(ds) is None:
         return None
     w = np.asarray(ds["dissipation"].values[cycle_index], dtype=float)
@@ -1081,7 +1262,20 @@ def dissipation_figure(ds, path, cycle_index: int = -1, *, work: float | None = 
 def loop_map_steps(ds, summary: dict) -> list[tuple[int, str]]:
     """The dataset steps of a hysteresis run to show as stick/slip maps, with Paper E's names:
     at most six, A, D, D' and the last turning points (for one cycle: A, D, D', H, H', L).
-    Empty when the dataset steps cannot be named (no ``summary_step``, no rows)."""
+    Empty when the dataset steps cannot be named (no ``summary_step``, no rows).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run (fields.nc, :mod:`tribobem.output.fields`).
+    summary : dict
+        The run summary (summary.json), its ``steps`` rows in particular.
+
+    Returns
+    -------
+    list of (int, str)
+        (dataset step position, Paper E name) pairs, in path order.
+    """
     steps = _tangential_step_indices(ds) if ds is not None else []
     rows = (summary or {}).get("steps") or []
     if not steps or not rows or "summary_step" not in ds.coords:
@@ -1101,7 +1295,24 @@ def loop_map_steps(ds, summary: dict) -> list[tuple[int, str]]:
 
 def loop_stickslip_figure(ds, picks, path, *, mu=None) -> Path:
     """Stick/slip maps at Paper E's points (``picks``: (dataset step, name)), one panel each
-    (up to three per row), on a common zoom and a common traction scale."""
+    (up to three per row), on a common zoom and a common traction scale.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run (fields.nc, :mod:`tribobem.output.fields`).
+    picks : sequence of (int, str)
+        (dataset step position, name) of each panel, e.g. from :func:`loop_map_steps`.
+    path : path-like
+        The PNG file to write (atomically).
+    mu : float, optional
+        Friction coefficient, for the panels' F_x/(mu F0+).
+
+    Returns
+    -------
+    Path
+        The written PNG file.
+    """
     x = np.asarray(ds["x"].values)
     active = np.zeros((ds.sizes["x"], ds.sizes["y"]), dtype=bool)
     for i, _ in picks:
@@ -1134,7 +1345,24 @@ def loop_stickslip_figure(ds, picks, path, *, mu=None) -> Path:
 
 def hysteresis_figures(ds, summary: dict, outdir) -> dict:
     """The hysteresis figures that apply: ``hysteresis_loop``, ``lateral_stiffness``,
-    ``dissipation_cycle<k>`` (last cycle) and ``stickslip_loop`` (maps at Paper E's points)."""
+    ``dissipation_cycle<k>`` (last cycle) and ``stickslip_loop`` (maps at Paper E's points;
+    that one is added by :func:`hysteresis_run_figures`, which calls this function).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The fields of the run (fields.nc); None: only what the summary alone gives.
+    summary : dict
+        The run summary (summary.json).
+    outdir : path-like
+        Folder of the PNG files.
+
+    Returns
+    -------
+    dict
+        Figure name -> Path of the PNG written; only the figures that apply (a figure that
+        fails to draw is left out: a figure never fails a run).
+    """
     outdir = Path(outdir)
     out = {}
     safe = (KeyError, TypeError, ValueError, IndexError)
@@ -1169,7 +1397,22 @@ def _constant_normal_force(summary: dict) -> bool:
 
 def load_curve_figures(ds, summary: dict, outdir) -> dict:
     """Figure set ``load_curve``: the force-approach curve (not for a tangential run at a fixed
-    normal force, nor for RH steps: there the curve says nothing)."""
+    normal force, nor for RH steps: there the curve says nothing).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The fields of the run (fields.nc); None: only what the summary alone gives.
+    summary : dict
+        The run summary (summary.json).
+    outdir : path-like
+        Folder of the PNG files.
+
+    Returns
+    -------
+    dict
+        Figure name -> Path of the PNG written; empty when the set does not apply.
+    """
     if _constant_normal_force(summary) or is_capillary(summary):
         return {}
     fc = force_curve_figure(summary, Path(outdir) / "force_curve.png")
@@ -1179,7 +1422,22 @@ def load_curve_figures(ds, summary: dict, outdir) -> dict:
 def friction_figures(ds, summary: dict, outdir) -> dict:
     """Figure set ``friction``: stick ratio against F_x/(mu F0+) (or against the normal force
     of a normal-load path) and the stick/slip maps of the shown steps (a hysteresis run shows
-    its maps at Paper E's points instead: set ``hysteresis``)."""
+    its maps at Paper E's points instead: set ``hysteresis``).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The fields of the run (fields.nc); None: only what the summary alone gives.
+    summary : dict
+        The run summary (summary.json).
+    outdir : path-like
+        Folder of the PNG files.
+
+    Returns
+    -------
+    dict
+        Figure name -> Path of the PNG written; empty when the set does not apply.
+    """
     outdir = Path(outdir)
     out = {}
     for name, func in (("stick_normal", stick_normal_figure), ("stick_ratio", stick_ratio_figure)):
@@ -1208,7 +1466,22 @@ def friction_figures(ds, summary: dict, outdir) -> dict:
 
 def hysteresis_run_figures(ds, summary: dict, outdir) -> dict:
     """Figure set ``hysteresis``: the loop, the lateral stiffness, the last cycle's dissipation
-    and the stick/slip maps at Paper E's points (:func:`hysteresis_figures`)."""
+    and the stick/slip maps at Paper E's points (:func:`hysteresis_figures`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The fields of the run (fields.nc); None: only what the summary alone gives.
+    summary : dict
+        The run summary (summary.json).
+    outdir : path-like
+        Folder of the PNG files.
+
+    Returns
+    -------
+    dict
+        Figure name -> Path of the PNG written; empty for a run that is not a hysteresis run.
+    """
     if not is_hysteresis(summary):
         return {}
     out = hysteresis_figures(ds, summary, outdir)
@@ -1221,14 +1494,44 @@ def hysteresis_run_figures(ds, summary: dict, outdir) -> dict:
 
 def capillary_run_figures(ds, summary: dict, outdir) -> dict:
     """Figure set ``capillary``: the force components against RH, the humid pull-off, the
-    meniscus and film maps (:func:`tribobem.output.capillary.capillary_figures`), for RH steps."""
+    meniscus and film maps (:func:`tribobem.output.capillary.capillary_figures`), for RH steps.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The fields of the run (fields.nc); None: only what the summary alone gives.
+    summary : dict
+        The run summary (summary.json).
+    outdir : path-like
+        Folder of the PNG files.
+
+    Returns
+    -------
+    dict
+        Figure name -> Path of the PNG written; empty without RH steps.
+    """
     return capillary_figures(ds, summary, outdir) if is_capillary(summary) else {}
 
 
 def map_figures(ds, summary: dict, outdir) -> dict:
     """Figure set ``maps``: pressure, contact and profile of the representative state (a pull-off
     run: the most loaded state and the state at pull-off; RH steps: the peak capillary force),
-    and the topography."""
+    and the topography.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The fields of the run (fields.nc); None: only what the summary alone gives.
+    summary : dict
+        The run summary (summary.json).
+    outdir : path-like
+        Folder of the PNG files.
+
+    Returns
+    -------
+    dict
+        Figure name -> Path of the PNG written; empty without fields.
+    """
     if ds is None:
         return {}
     outdir = Path(outdir)

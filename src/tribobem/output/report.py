@@ -389,6 +389,12 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
     sections : sequence of str, optional
         The kind's own sections (keys of :data:`REPORT_SECTIONS`), placed after the key
         results; default: every section (each shows only what the summary holds).
+
+    Returns
+    -------
+    str
+        A self-contained HTML document (inline CSS, PNGs embedded as data URIs), so the report
+        can be moved or mailed without its folder.
     """
     s = jsonable(summary)
     e = html.escape
@@ -493,6 +499,22 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
 def write_report(outdir, summary: dict, figures: dict | None = None, name: str = "report.html",
                  sections=None) -> Path:
     """Render the report (:func:`render_report`) and write it atomically to ``outdir/name``.
+
+    Atomic (a temporary file renamed into place) so that a reader never sees a half-written
+    report.
+
+    Parameters
+    ----------
+    outdir : str or Path
+        The result folder.
+    summary : dict
+        The run summary (as written to summary.json).
+    figures : dict, optional
+        Figure name -> PNG path.
+    name : str
+        File name of the report.
+    sections : sequence of str, optional
+        As for :func:`render_report`.
 
     Returns
     -------

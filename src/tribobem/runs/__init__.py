@@ -31,7 +31,15 @@ Runner = Callable[..., RunOutput]
 
 
 class NotImplementedKindError(InputError):
-    """A scenario kind the schema accepts but this version cannot run (no runner)."""
+    """A scenario kind the schema accepts but this version cannot run (no runner).
+
+    Parameters
+    ----------
+    field : str
+        The scenario key the error is about (``kind``).
+    message : str
+        Why, with the available kinds; also kept as ``reason``.
+    """
 
     def __init__(self, field: str, message: str):
         self.reason = message
@@ -57,18 +65,48 @@ RUNNERS: dict[str, Runner] = {name: kind.run for name, kind in KINDS.items()}
 
 
 def available_kinds() -> tuple[str, ...]:
-    """The kinds that have a runner, in registry order."""
+    """The kinds that have a runner, in registry order.
+
+    Returns
+    -------
+    tuple of str
+    """
     return tuple(KINDS)
 
 
 def get_kind(kind: str) -> RunKind:
-    """The declaration of ``kind`` (a :class:`NotImplementedKindError` names the available ones)."""
+    """The declaration of ``kind`` (a :class:`NotImplementedKindError` names the available ones).
+
+    Parameters
+    ----------
+    kind : str
+        The scenario's ``kind``.
+
+    Returns
+    -------
+    RunKind
+
+    Raises
+    ------
+    NotImplementedKindError
+        When ``kind`` has no runner.
+    """
     get_runner(kind)
     return KINDS[kind]
 
 
 def get_runner(kind: str) -> Runner:
     """The runner of ``kind``.
+
+    Parameters
+    ----------
+    kind : str
+        The scenario's ``kind``.
+
+    Returns
+    -------
+    Runner
+        ``runner(pb, bar) -> RunOutput``.
 
     Raises
     ------

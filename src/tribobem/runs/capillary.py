@@ -59,6 +59,20 @@ def films_at(pb, rh: float, tol: float = 1e-10):
 
     Computed on each body's undeformed topography (``pb.humidity.surface1/2``) before contact,
     as in the thesis; a dry body gets a zero film.
+
+    Parameters
+    ----------
+    pb : Problem
+        The built scenario with ``[humidity]`` (``pb.humidity``: surfaces, isotherms, water).
+    rh : float
+        Relative humidity (0..1).
+    tol : float
+        Tolerance of the film levelling (floored at 1e-12, below which it would not converge).
+
+    Returns
+    -------
+    (FilmResult, FilmResult)
+        The films of body 1 and body 2 (thickness in m per node).
     """
 
     hs = pb.humidity
@@ -72,7 +86,21 @@ def films_at(pb, rh: float, tol: float = 1e-10):
 
 def capillary_options(pb, rh: float) -> dict:
     """The keyword arguments of :func:`~tribobem.solvers.capillary.solve_capillary` at ``rh``
-    (all but the load, the films and the warm start)."""
+    (all but the load, the films and the warm start).
+
+    Parameters
+    ----------
+    pb : Problem
+        The built scenario with ``[humidity]``.
+    rh : float
+        Relative humidity (0..1).
+
+    Returns
+    -------
+    dict
+        Kelvin radius (m), capillary pressure (Pa), contribution coefficient, adhesion law,
+        Hamaker constants (J), contact angles (rad), critical distance and cutoff (m), periodicity.
+    """
 
     hs = pb.humidity
     water = hs.water
@@ -92,7 +120,28 @@ def capillary_options(pb, rh: float) -> dict:
 
 
 def capillary_row(state, rh: float, f1, f2, opts: dict, relief: float) -> dict:
-    """A summary.json step of one RH (module docstring) from a solved capillary state."""
+    """A summary.json step of one RH (module docstring) from a solved capillary state.
+
+    Parameters
+    ----------
+    state : CapillaryResult
+        The solved state at this RH.
+    rh : float
+        Relative humidity (0..1).
+    f1, f2 : FilmResult
+        The films of body 1 and body 2.
+    opts : dict
+        The solver options of :func:`capillary_options` at this RH.
+    relief : float
+        Peak-to-valley of the initial gap (m): films at least this thick together bury the
+        roughness, so the step is flagged ``films_exceed_relief``.
+
+    Returns
+    -------
+    dict
+        The step's scalars: forces in N, areas in m^2, radius and film thicknesses in m, pressure
+        in Pa, counts, ``converged`` (state and both films).
+    """
     row = state.normal.scalars()
     c = float(opts["contribution"])
     adh_total = state.capillary_force + state.solid_solid_force + state.water_solid_force
@@ -123,7 +172,21 @@ def capillary_row(state, rh: float, f1, f2, opts: dict, relief: float) -> dict:
 
 
 def step_maps(state, f1, f2) -> dict:
-    """The per-RH maps of :data:`STEP_FIELDS` of one solved state."""
+    """The per-RH maps of :data:`STEP_FIELDS` of one solved state.
+
+    Parameters
+    ----------
+    state : CapillaryResult
+        The solved state (its islands and contact mask).
+    f1, f2 : FilmResult
+        The films of body 1 and body 2.
+
+    Returns
+    -------
+    dict
+        Name -> array of ``grid.shape`` in the dtype of :data:`STEP_FIELDS`: film thicknesses (m),
+        meniscus mask (active island, not in contact), island labels and active mask.
+    """
     isl = state.islands
     contact = np.asarray(state.normal.contact, dtype=bool)
     active = np.asarray(isl.active, dtype=bool)
@@ -147,6 +210,19 @@ def run(pb, bar) -> RunOutput:
     Returns its :class:`~tribobem.runs.kind.RunOutput`, with ``step_fields`` (per-RH maps
     aligned with ``results``) and ``representative`` (the index of the RH with the most tensile
     capillary force, the state ``output.fields = "last"`` keeps).
+
+    Parameters
+    ----------
+    pb : Problem
+        The built scenario (grid, elastic operator, gap in m, loads in N or m, interaction,
+        solver settings).
+    bar : progress handler
+        ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
+        progress (the CLI's progress bar, or a no-op).
+
+    Returns
+    -------
+    RunOutput
     """
 
     sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
@@ -200,7 +276,18 @@ def run(pb, bar) -> RunOutput:
 
 def check(sc) -> None:
     """Kind ``capillary``: ``[humidity] rh`` and one load, held at every RH (``force`` or
-    ``approach``)."""
+    ``approach``).
+
+    Parameters
+    ----------
+    sc : Scenario
+        The validated scenario (called by the schema after the per-section checks).
+
+    Raises
+    ------
+    InputError
+        Through :func:`~tribobem.runs.kind.fail`, naming the offending scenario key.
+    """
     require_humidity(sc)
     if sc.load.approach is None:
         # two rigid bodies at a prescribed approach: the meniscus force of rigid bodies (Paper B

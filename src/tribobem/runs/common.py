@@ -10,19 +10,57 @@ __all__ = ["solve_kw", "step_row", "curve_from_rows", "offset_progress"]
 
 
 def solve_kw(sc) -> dict:
-    """The solver keywords of a scenario's ``[solver]`` section."""
+    """The solver keywords of a scenario's ``[solver]`` section.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The validated scenario.
+
+    Returns
+    -------
+    dict
+        ``tol`` (relative) and ``max_iterations``, as the solvers take them.
+    """
     return {"tol": sc.solver.tolerance, "max_iterations": sc.solver.max_iterations}
 
 
 def step_row(res, branch: str) -> dict:
-    """A summary.json step (the result's scalars) on ``branch``."""
+    """A summary.json step (the result's scalars) on ``branch``.
+
+    Parameters
+    ----------
+    res : NormalResult or CoupledResult
+        A solved step.
+    branch : str
+        Its branch of the load path (e.g. ``"loading"``, ``"unloading"``).
+
+    Returns
+    -------
+    dict
+        ``res.scalars()`` (forces in N, approach in m, areas in m^2, ...) plus ``branch``.
+    """
     row = res.scalars()
     row["branch"] = branch
     return row
 
 
 def curve_from_rows(rows: list, control: str):
-    """A LoadCurve (with jumps) from step rows."""
+    """A LoadCurve (with jumps) from step rows.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Step rows of :func:`step_row` (with ``approach``, ``normal_force``, areas, forces,
+        ``iterations``, ``converged``, ``branch``).
+    control : {"force", "displacement"}
+        How the path was driven (it decides what counts as a jump).
+
+    Returns
+    -------
+    LoadCurve
+        The curve (approach in m, forces in N, areas in m^2) with its jumps found.
+    """
 
     def col(k, dtype=float):
         return np.array([r[k] for r in rows], dtype=dtype)
@@ -37,5 +75,23 @@ def curve_from_rows(rows: list, control: str):
 
 
 def offset_progress(cb, offset: int, total: int):
-    """A ``progress(done, total)`` callback that reports ``offset + done`` of ``total`` to ``cb``."""
+    """A ``progress(done, total)`` callback that reports ``offset + done`` of ``total`` to ``cb``.
+
+    Used where one phase is made of several solver paths, so the bar advances over the whole
+    phase instead of restarting per path.
+
+    Parameters
+    ----------
+    cb : callable
+        ``cb(done, total)``, the phase's progress handler.
+    offset : int
+        Steps done before this path.
+    total : int
+        Steps of the whole phase.
+
+    Returns
+    -------
+    callable
+        ``progress(done, _total)``; the path's own total is ignored.
+    """
     return lambda done, _t: cb(offset + done, total)

@@ -64,6 +64,28 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
                    max_iterations: int, max_steps: int = 400):
     """The pull-off at one RH (module docstring, steps 2-4) on films ``f1``, ``f2``.
 
+    Parameters
+    ----------
+    pb : Problem
+        The built scenario with ``[humidity]``.
+    rh : float
+        Relative humidity (0..1).
+    f1, f2 : FilmResult
+        The films of body 1 and body 2 at ``rh`` (:func:`~tribobem.runs.capillary.films_at`).
+    preload : float or None
+        Normal force (N) of the start; None: zero external load.
+    n_steps : int
+        About twice the number of unloading steps down to zero approach (``load.steps``).
+    refine : int
+        Finer continuation steps around the most tensile state: ``2 refine - 1`` (0: none).
+    tol : float
+        Solver tolerance.
+    max_iterations : int
+        Iterations per solve.
+    max_steps : int
+        Most unloading steps beyond zero approach before giving up on separation (a note then
+        says so).
+
     Returns
     -------
     dict
@@ -148,6 +170,19 @@ def run(pb, bar) -> RunOutput:
 
     Returns its :class:`~tribobem.runs.kind.RunOutput` (with ``step_fields``, ``step_coords`` and
     the ``representative`` RH: the most tensile pull-off).
+
+    Parameters
+    ----------
+    pb : Problem
+        The built scenario (grid, elastic operator, gap in m, loads in N or m, interaction,
+        solver settings).
+    bar : progress handler
+        ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
+        progress (the CLI's progress bar, or a no-op).
+
+    Returns
+    -------
+    RunOutput
     """
     sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
     kw = solve_kw(sc)

@@ -111,7 +111,23 @@ def _stiffness_table(rows, run, mu, f0p, radius, k_compliance, e=(1.0, 0.0)):
 
 
 def run(pb, bar) -> RunOutput:
-    """Run a ``hysteresis`` scenario on its built :class:`~tribobem.scenario.build.Problem`."""
+    """Run a ``hysteresis`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
+
+    Parameters
+    ----------
+    pb : Problem
+        The built scenario (grid, elastic operator, gap in m, loads in N or m, interaction,
+        solver settings).
+    bar : progress handler
+        ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
+        progress (the CLI's progress bar, or a no-op).
+
+    Returns
+    -------
+    RunOutput
+        One step per point of the cyclic path, with the loop's run-level values (energies in J,
+        lateral stiffness in N/m) and the states for fields.nc.
+    """
     sc = pb.scenario
     fr, load = sc.friction, sc.load
     path = fr.path
@@ -218,7 +234,18 @@ def run(pb, bar) -> RunOutput:
 
 def check(sc) -> None:
     """Kind ``hysteresis``: mu, ``friction.path`` and one normal force held during the cycles;
-    incremental slip (the loop follows the history); mu > 0 on a force-controlled path."""
+    incremental slip (the loop follows the history); mu > 0 on a force-controlled path.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The validated scenario (called by the schema after the per-section checks).
+
+    Raises
+    ------
+    InputError
+        Through :func:`~tribobem.runs.kind.fail`, naming the offending scenario key.
+    """
     require_elastic_body(sc)
     fr, load = require_friction(sc), sc.load
     if fr.path is None:

@@ -119,7 +119,20 @@ CAPILLARY_STEPS = {
 
 def fail(key: str, message: str):
     """Raise the :class:`~tribobem.errors.InputError` of a kind's rule on scenario key ``key``
-    (dotted from the top, e.g. ``"load.force"``)."""
+    (dotted from the top, e.g. ``"load.force"``).
+
+    Parameters
+    ----------
+    key : str
+        The dotted scenario key the rule is about.
+    message : str
+        What is wrong and what to give instead.
+
+    Raises
+    ------
+    InputError
+        Always.
+    """
     raise InputError(key, message)
 
 
@@ -187,7 +200,20 @@ class RunKind:
 
     def unused(self, scenario, registry: Mapping[str, "RunKind"] = ()) -> list[tuple[str, str]]:
         """``(key, message)`` for each section or key ``scenario`` gives that this kind does not
-        read (in file order); ``registry`` (kind -> RunKind) names the kinds that do read it."""
+        read (in file order); ``registry`` (kind -> RunKind) names the kinds that do read it.
+
+        Parameters
+        ----------
+        scenario : Scenario
+            The validated scenario (its ``model_fields_set`` says what the file gave).
+        registry : mapping, optional
+            Kind name -> RunKind, to name the kinds that read an ignored section or key.
+
+        Returns
+        -------
+        list of (str, str)
+            ``(key, message)`` pairs; empty when the scenario gives nothing this kind ignores.
+        """
         reads = self.reads()
         problems = []
         for section in SECTIONS:

@@ -24,6 +24,20 @@ def run(pb, bar) -> RunOutput:
     """Run a ``normal`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
     Returns its :class:`~tribobem.runs.kind.RunOutput`.
+
+    Parameters
+    ----------
+    pb : Problem
+        The built scenario (grid, elastic operator, gap in m, loads in N or m, interaction,
+        solver settings).
+    bar : progress handler
+        ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
+        progress (the CLI's progress bar, or a no-op).
+
+    Returns
+    -------
+    RunOutput
+        One step per load (and per unloading load), with the solved states for fields.nc.
     """
 
     sc, load = pb.scenario, pb.scenario.load
@@ -70,7 +84,18 @@ def run(pb, bar) -> RunOutput:
 
 def check(sc) -> None:
     """Kind ``normal``: exactly one of the four loads; compressive without adhesion; ``unload``
-    traces a list back down (a single load has no unloading branch)."""
+    traces a list back down (a single load has no unloading branch).
+
+    Parameters
+    ----------
+    sc : Scenario
+        The validated scenario (called by the schema after the per-section checks).
+
+    Raises
+    ------
+    InputError
+        Through :func:`~tribobem.runs.kind.fail`, naming the offending scenario key.
+    """
     require_elastic_body(sc)
     load = sc.load
     given = load.given

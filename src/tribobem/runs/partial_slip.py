@@ -47,7 +47,23 @@ def _row(res, branch: str, mu: float, e) -> dict:
 
 
 def run(pb, bar) -> RunOutput:
-    """Run a ``partial_slip`` scenario on its built :class:`~tribobem.scenario.build.Problem`."""
+    """Run a ``partial_slip`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
+
+    Parameters
+    ----------
+    pb : Problem
+        The built scenario (grid, elastic operator, gap in m, loads in N or m, interaction,
+        solver settings).
+    bar : progress handler
+        ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
+        progress (the CLI's progress bar, or a no-op).
+
+    Returns
+    -------
+    RunOutput
+        One step per solved tangential (or normal-path) value, with the coupled normal and
+        tangential states for fields.nc.
+    """
     sc = pb.scenario
     fr, load = sc.friction, sc.load
     mu = float(fr.coefficient)
@@ -124,7 +140,18 @@ def run(pb, bar) -> RunOutput:
 def check(sc) -> None:
     """Kind ``partial_slip``: mu; one normal force held during a tangential ramp (forces or
     displacements, at most one), or a normal-load path (``load.forces``, incremental slip) paired
-    step by step with tangential forces."""
+    step by step with tangential forces.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The validated scenario (called by the schema after the per-section checks).
+
+    Raises
+    ------
+    InputError
+        Through :func:`~tribobem.runs.kind.fail`, naming the offending scenario key.
+    """
     require_elastic_body(sc)
     fr, load = require_friction(sc), sc.load
     if len(fr.tangential_given) > 1:

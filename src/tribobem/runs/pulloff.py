@@ -33,6 +33,21 @@ def run(pb, bar) -> RunOutput:
     """Run a ``pulloff`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
     Returns its :class:`~tribobem.runs.kind.RunOutput`.
+
+    Parameters
+    ----------
+    pb : Problem
+        The built scenario (grid, elastic operator, gap in m, loads in N or m, interaction,
+        solver settings).
+    bar : progress handler
+        ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
+        progress (the CLI's progress bar, or a no-op).
+
+    Returns
+    -------
+    RunOutput
+        The steps of the loading and unloading path, with the pull-off force (N) and approach (m)
+        as run-level values.
     """
 
     if getattr(pb, "humidity", None) is not None:  # [humidity]: one pull-off per RH (runs.humid_pulloff)
@@ -91,7 +106,18 @@ _DRY_LOAD = ("preload", "control", "steps", "refine", "loading")
 def check(sc) -> None:
     """Kind ``pulloff``: Dugdale adhesion, or ``[humidity]`` (a humid pull-off, the films' keys
     ``film``/``hamaker`` then belong to it); a humid pull-off unloads under displacement control
-    from its start with no separate loading branch."""
+    from its start with no separate loading branch.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The validated scenario (called by the schema after the per-section checks).
+
+    Raises
+    ------
+    InputError
+        Through :func:`~tribobem.runs.kind.fail`, naming the offending scenario key.
+    """
     require_elastic_body(sc)
     if sc.humidity is not None:
         require_humidity(sc)

@@ -96,6 +96,17 @@ class Problem:
         beyond the edge repeat the edge).  Same reference as :attr:`gap` (no re-zeroing), so
         approaches stay comparable.  Used for gross sliding against a rough counterface (thesis
         recommendation 3: new contact pairs form).
+
+        Parameters
+        ----------
+        offset : (float, float)
+            Rigid displacement (dx, dy) of body 2 (m).
+
+        Returns
+        -------
+        ndarray, shape ``grid.shape``
+            The gap (m) with body 2 moved, minus the same :attr:`gap_offset` as the unshifted
+            gap (so its minimum need not be 0).
         """
         ox, oy = (float(v) for v in offset)
         upper = self.shape2 - self.roughness2
@@ -189,6 +200,22 @@ class HumiditySetup:
 def humidity_setup(sc: Scenario, shape1, shape2, rough1, rough2) -> HumiditySetup | None:
     """The :class:`HumiditySetup` of a scenario with ``[humidity]`` (None without).
 
+    Parameters
+    ----------
+    sc : Scenario
+        The validated scenario.
+    shape1, shape2 : ndarray
+        The bodies' shapes (m, positive away from the interface), on the grid.
+    rough1, rough2 : ndarray
+        The bodies' roughness (m, positive out of the body), on the grid; each body's undeformed
+        surface for its film is ``rough - shape``.
+
+    Returns
+    -------
+    HumiditySetup or None
+        Water, isotherms, surfaces, Hamaker constants (J), contact angles (rad), critical
+        distance and cutoff (m) of the capillary model; None without ``[humidity]``.
+
     Raises
     ------
     InputError
@@ -248,6 +275,20 @@ def resolve_path(path: str, base_dir: Path) -> Path:
     ``"data:NAME"`` names a measured topography of tribobem's data folder (the files shipped
     with the package, or ``$TRIBOBEM_DATA_DIR`` when set): :func:`tribobem.data.topography_path`,
     which raises :class:`InputError` when the file is not there.
+
+    Parameters
+    ----------
+    path : str
+        The path as the scenario gives it.
+    base_dir : Path
+        The scenario file's folder (relative paths are taken from there, so a scenario keeps
+        working when run from another directory).
+
+    Returns
+    -------
+    Path
+        Absolute when ``path`` or ``base_dir`` is (not resolved further, not checked to exist
+        except for ``"data:"`` names).
     """
 
     if str(path).startswith(DATA_PREFIX):
@@ -257,7 +298,20 @@ def resolve_path(path: str, base_dir: Path) -> Path:
 
 
 def body_material(spec: BodySpec, name: str) -> Material:
-    """The :class:`Material` of a body section."""
+    """The :class:`Material` of a body section.
+
+    Parameters
+    ----------
+    spec : BodySpec
+        The ``[body1]`` or ``[body2]`` section (E in Pa, nu, ``rigid``).
+    name : str
+        Label used when the section gives no ``name`` (``"body1"``, ``"body2"``).
+
+    Returns
+    -------
+    Material
+        A rigid body is E = inf, nu = 0 (it adds no compliance to the pair).
+    """
     label = spec.name or name
     if spec.rigid:
         return Material(math.inf, 0.0, label)

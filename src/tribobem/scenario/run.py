@@ -69,14 +69,17 @@ class RunResult:
 
     @property
     def converged(self) -> bool:
+        """Whether every step of the run converged (summary.json's ``converged``)."""
         return bool(self.summary.get("converged"))
 
     @property
     def steps(self) -> list:
+        """The summary.json step rows (one dict per step; empty when there are none)."""
         return self.summary.get("steps", [])
 
     @property
     def report(self) -> Path | None:
+        """Path of report.html, or None when no report was written."""
         return self.files.get("report")
 
 
@@ -84,12 +87,22 @@ class RunResult:
 def read_scenario_file(path) -> dict:
     """Read a TOML scenario file into a dict.
 
+    Parameters
+    ----------
+    path : str or Path
+        The scenario file.
+
+    Returns
+    -------
+    dict
+        The parsed TOML, not yet validated (the schema does that).
+
     Raises
     ------
     FileNotFoundError
         If the file does not exist.
     InputError
-        If it is not valid TOML (with the line and column).
+        If it is a folder, or not valid TOML (with the line and column).
     """
     path = Path(path)
     if not path.exists():

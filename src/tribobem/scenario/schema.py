@@ -57,7 +57,18 @@ IMPLEMENTED_KINDS = tuple(k for k in KINDS if k in RUNNERS)
 
 # ----------------------------------------------------------------------------- errors
 class ScenarioError(InputError):
-    """One or more problems in a scenario; ``errors`` lists ``(field, message)`` pairs."""
+    """One or more problems in a scenario; ``errors`` lists ``(field, message)`` pairs.
+
+    All problems are collected and raised together, so a user fixes a scenario in one pass
+    rather than one error per run.
+
+    Parameters
+    ----------
+    errors : list of (str, str)
+        ``(field, message)`` pairs, at least one; the first gives ``field``.
+    source : str, optional
+        The scenario file, quoted in the message.
+    """
 
     def __init__(self, errors: list[tuple[str, str]], source: str | None = None):
         self.errors = list(errors)
@@ -242,6 +253,7 @@ class GridSpec(Section):
 
     @property
     def shape(self) -> tuple[int, int]:
+        """Grid nodes (nx, ny): (n, n) when ``n`` is given, else (nx, ny) (None before sizing)."""
         return (self.n, self.n) if self.n is not None else (self.nx, self.ny)
 
     @property
@@ -503,6 +515,7 @@ class LoadSpec(Section):
 
     @property
     def given(self) -> list[str]:
+        """Which of ``force``, ``approach``, ``forces``, ``approaches`` the scenario sets."""
         return [k for k in ("force", "approach", "forces", "approaches") if getattr(self, k) is not None]
 
 
@@ -527,6 +540,7 @@ class AdhesionSpec(Section):
 
     @property
     def enabled(self) -> bool:
+        """Whether Dugdale adhesion is on (``model = "dugdale"``)."""
         return self.model == "dugdale"
 
 
@@ -613,6 +627,7 @@ class FrictionSpec(Section):
 
     @property
     def tangential_given(self) -> list[str]:
+        """Which of ``tangential_forces``, ``tangential_displacements`` the scenario sets."""
         return [k for k in ("tangential_forces", "tangential_displacements") if getattr(self, k) is not None]
 
 
@@ -735,6 +750,7 @@ class ExpectedSpec(Section):
 
     @classmethod
     def allowed_keys(cls) -> list[str]:
+        """The keys ``[expected]`` accepts: its own settings and every known result key."""
         return [k for k in cls.model_fields if k != "values"] + list(EXPECTED_KEYS)
 
     @model_validator(mode="before")

@@ -130,6 +130,25 @@ def island_fixed_point(islands: Islands, step: Callable[[Islands], tuple[object,
     Returns ``(state, islands_used, outer_iterations, status, history)`` with ``status`` one of
     ``"converged"``, ``"cycle"`` (a mask seen earlier, not the last one, came back) and
     ``"max_outer"``; ``islands_used`` are the islands whose law produced ``state``.
+
+    A cycle stops the loop rather than iterating on: the active mask takes a finite set of
+    values, so a repeat that is not the last mask means the iteration would oscillate forever.
+
+    Parameters
+    ----------
+    islands : Islands
+        The starting islands (water menisci and their active mask).
+    step : callable
+        ``step(islands) -> (state, new_islands)``: one solve with the islands' stress law and
+        the islands it implies.
+    max_outer : int
+        Most outer iterations (solves).
+
+    Returns
+    -------
+    tuple
+        ``(state, islands_used, outer_iterations, status, history)``; ``history`` is the count
+        of active nodes after each iteration.
     """
     seen = {islands.key: 0}
     history = []

@@ -94,6 +94,19 @@ def cycle_path(peak: float, cycles: int, steps: int, control: str = "force") -> 
     steps : int
         Steps per cycle (>= 4): steps/2 per branch, steps/4 (>= 4) for the initial loading.
     control : {"force", "displacement"}
+        What ``peak`` is: a tangential force amplitude or a displacement half stroke.
+
+    Returns
+    -------
+    CyclePath
+        The values (N or m) of every step, cosine-spaced along each branch (steps crowd near
+        the turning points, where stick and slip change fastest), with their cycle, branch and
+        turning flags.
+
+    Raises
+    ------
+    InputError
+        For a non-positive peak, ``cycles`` < 1 or ``steps`` < 4.
     """
     if not (math.isfinite(peak) and peak > 0):
         raise InputError("friction.path", f"the amplitude (or half stroke) must be > 0, got {peak!r}")
@@ -307,6 +320,20 @@ def loop_energies(forces, displacements, cycles) -> list:
     the width) also changes the stored elastic energy; closing its polygon would not measure the
     dissipation either.  The traction work ``HysteresisRun.dissipation`` (sum of -q . ds) is the
     dissipation itself, for every cycle.
+
+    Parameters
+    ----------
+    forces : array_like
+        Tangential force (N) at each step.
+    displacements : array_like
+        Tangential displacement (m) at each step.
+    cycles : array_like of int
+        Cycle number of each step (0: the initial loading, not counted).
+
+    Returns
+    -------
+    list of float
+        The work (J) of each cycle 1.. that has steps.
     """
     F = np.asarray(forces, float)
     d = np.asarray(displacements, float)

@@ -25,7 +25,27 @@ __all__ = ["NormalProblem", "normal_problem", "normal_result"]
 
 
 class NormalProblem(NamedTuple):
-    """Checked inputs and start of a normal solve (see :func:`normal_problem`)."""
+    """Checked inputs and start of a normal solve (see :func:`normal_problem`).
+
+    Attributes
+    ----------
+    h : array
+        Initial gap (m), a backend array of ``grid.shape``.
+    interaction : Interaction
+        The outside stress law (``NoInteraction`` without adhesion).
+    floor : float
+        Lowest contact pressure (Pa): -sigma0 with Dugdale adhesion, else 0.
+    force_control : bool
+        True when the normal force is given, False when the approach is.
+    target : float or None
+        Force control: the target sum of p (Pa), F0 / cell area; else None.
+    shift : float
+        Displacement control: the approach (m); 0 under force control.
+    pressure : array
+        Initial pressure (Pa), a fresh C-contiguous array the solver may own.
+    contact : array of bool
+        Initial contact mask.
+    """
 
     h: object
     """Initial gap (m), a backend array of ``grid.shape``."""

@@ -36,7 +36,23 @@ __all__ = ["SlipRamp", "tangential_ramp", "normal_path", "stick_radius_ratio", "
 
 
 def direction_vector(direction_deg: float) -> np.ndarray:
-    """Unit vector of a tangential load ``direction_deg`` degrees from the x axis."""
+    """Unit vector of a tangential load ``direction_deg`` degrees from the x axis.
+
+    Parameters
+    ----------
+    direction_deg : float
+        Angle of the load from the x axis (degrees, counter-clockwise).
+
+    Returns
+    -------
+    ndarray, shape (2,)
+        (cos, sin) of the angle.
+
+    Raises
+    ------
+    InputError
+        For a non-finite angle.
+    """
     if not math.isfinite(direction_deg):
         raise InputError("friction.direction", f"must be a finite angle in degrees, got {direction_deg!r}")
     t = math.radians(direction_deg)
@@ -44,7 +60,19 @@ def direction_vector(direction_deg: float) -> np.ndarray:
 
 
 def stick_radius_ratio(res: CoupledResult) -> float:
-    """Equivalent stick radius over equivalent contact radius, sqrt(A_stick / A_contact)."""
+    """Equivalent stick radius over equivalent contact radius, sqrt(A_stick / A_contact).
+
+    Parameters
+    ----------
+    res : CoupledResult
+        A solved step (its tangential stick ratio A_stick / A_contact is used).
+
+    Returns
+    -------
+    float
+        c/a (dimensionless), the quantity of the Cattaneo-Mindlin law c/a = (1 - Q/(mu P))^(1/3)
+        for circular contacts; 0 without stick.
+    """
     return math.sqrt(max(res.tangential.stick_ratio, 0.0))
 
 

@@ -99,6 +99,15 @@ USE_BOX = True
 class GrossSlipError(InputError):
     """The tangential force exceeds what the contact can carry (gross sliding).
 
+    Parameters
+    ----------
+    field : str
+        The input the error is about (as for :class:`~tribobem.errors.InputError`).
+    message : str
+        What went wrong.
+    max_force : float
+        The largest tangential force magnitude with an equilibrium (N).
+
     Attributes
     ----------
     max_force : float

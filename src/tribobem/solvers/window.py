@@ -60,7 +60,15 @@ def _fast_even(m: int, n: int) -> int:
 
 @dataclasses.dataclass(frozen=True)
 class Window:
-    """Rows ``i0:i1`` and columns ``j0:j1`` of a free-boundary grid."""
+    """Rows ``i0:i1`` and columns ``j0:j1`` of a free-boundary grid.
+
+    Attributes
+    ----------
+    i0, i1 : int
+        First and one-past-last row (node indices along x) of the window.
+    j0, j1 : int
+        First and one-past-last column (node indices along y).
+    """
 
     i0: int
     i1: int
@@ -69,10 +77,23 @@ class Window:
 
     @property
     def shape(self) -> tuple[int, int]:
+        """The window's size in nodes, (i1 - i0, j1 - j0)."""
         return (self.i1 - self.i0, self.j1 - self.j0)
 
     def slice(self, a):
-        """The window's part of a grid-shaped (or (k, nx, ny)) array, a contiguous copy."""
+        """The window's part of a grid-shaped (or (k, nx, ny)) array, a contiguous copy.
+
+        Parameters
+        ----------
+        a : array_like or None
+            Field of shape (..., nx, ny) on the whole grid (any unit).
+
+        Returns
+        -------
+        ndarray or None
+            Its (..., i1 - i0, j1 - j0) part, C-contiguous (what the solvers' FFTs want); None
+            for None.
+        """
         if a is None:
             return None
         return np.ascontiguousarray(np.asarray(a)[..., self.i0:self.i1, self.j0:self.j1])
@@ -82,7 +103,19 @@ class Window:
 
         Cached on ``operator`` per window shape (the operator is translation invariant): the
         same object step after step, so that what the solvers cache on it (the tangential
-        view, its box and preconditioner spectra, work arrays) is made once, not every step."""
+        view, its box and preconditioner spectra, work arrays) is made once, not every step.
+
+        Parameters
+        ----------
+        operator : ConvolutionOperator
+            The whole grid's free-boundary operator.
+
+        Returns
+        -------
+        ConvolutionOperator
+            The free-boundary operator of an (i1 - i0) x (j1 - j0) grid with the same cell size
+            (m), materials, components and backend (at most four window shapes are kept).
+        """
         cache = operator.__dict__.setdefault("_window_operators", {})
         m1, m2 = self.shape
         op = cache.get((m1, m2))
@@ -105,7 +138,21 @@ class Window:
         return dataclasses.replace(res, **changes)
 
     def slice_result(self, res: CoupledResult, operator: ConvolutionOperator) -> CoupledResult:
-        """A whole-grid step restricted to the window (a warm start of the next windowed step)."""
+        """A whole-grid step restricted to the window (a warm start of the next windowed step).
+
+        Parameters
+        ----------
+        res : CoupledResult
+            A state on the whole grid.
+        operator : ConvolutionOperator
+            The whole grid's operator (gives the window's grid).
+
+        Returns
+        -------
+        CoupledResult
+            ``res`` with every grid-shaped field sliced to the window and the window's grid; the
+            coupling contraction estimate is carried over.
+        """
         grid = self.operator(operator).grid
         out = dataclasses.replace(res, normal=self._slice_fields(res.normal, grid),
                                   tangential=self._slice_fields(res.tangential, grid))
@@ -118,6 +165,20 @@ class Window:
         Tractions and masks are the window's (zero / False outside); the displacements, the gap,
         the relative displacement and the slip outside the window come from one convolution of
         the window's tractions with the whole grid's operator (inside they are the window's own).
+
+        Parameters
+        ----------
+        res : CoupledResult
+            The step solved on the window's grid.
+        operator : ConvolutionOperator
+            The whole grid's 3x3 free-boundary operator.
+        gap : array_like
+            Initial gap h (m) on the whole grid.
+        reference : array_like, shape (2, nx, ny), or None
+            Previous step's relative displacement (m) on the whole grid (incremental slip);
+            None: total slip.
+        interaction : Interaction or None
+            The stress law outside contact; None: none (only closed nodes violate).
 
         Returns
         -------
@@ -198,7 +259,20 @@ def _window_around(mask, shape, margin: float = MARGIN) -> Window | None:
 
 def windowable(operator: ConvolutionOperator, interaction) -> bool:
     """Whether a step on this operator with this law may be solved on a window (free boundary;
-    no stress law, or one of finite range that depends on the gap alone)."""
+    no stress law, or one of finite range that depends on the gap alone).
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        The whole grid's operator; a periodic one never allows a window (its convolution is
+        cyclic, so tractions in a box do not decouple from the rest).
+    interaction : Interaction or None
+        The stress law outside contact.
+
+    Returns
+    -------
+    bool
+    """
     if operator.periodic:
         return False
     return interaction is None or type(interaction) in (NoInteraction, DugdaleAdhesion)
@@ -206,7 +280,24 @@ def windowable(operator: ConvolutionOperator, interaction) -> bool:
 
 def auto_window(res: CoupledResult | NormalResult, operator: ConvolutionOperator, interaction) -> Window | None:
     """The window around the tractions of a solved state (contact and cohesive zone), or None
-    when windows do not apply or would not pay (see :func:`windowable`, ``MAX_FRACTION``)."""
+    when windows do not apply or would not pay (see :func:`windowable`, ``MAX_FRACTION``).
+
+    Parameters
+    ----------
+    res : CoupledResult or NormalResult
+        A solved state on the whole grid (its pressure, contact and adhesive masks give the
+        tractions' support).
+    operator : ConvolutionOperator
+        The whole grid's operator.
+    interaction : Interaction or None
+        The stress law outside contact.
+
+    Returns
+    -------
+    Window or None
+        The box around the support plus ``MARGIN``, widened to a fast FFT length; None when
+        :func:`windowable` says no or the box exceeds ``MAX_FRACTION`` of the grid.
+    """
     if not windowable(operator, interaction):
         return None
     nr = res.normal if isinstance(res, CoupledResult) else res
@@ -222,6 +313,28 @@ def solve_coupled_windowed(window: Window | None, operator: ConvolutionOperator,
     tractions and those nodes and the step is solved again (up to the whole grid).
 
     ``solver``: the step solver (default :func:`~tribobem.solvers.coupling.solve_coupled`).
+
+    Parameters
+    ----------
+    window : Window or None
+        The window to try first (e.g. from :func:`auto_window` or the last step); None: solve
+        on the whole grid.
+    operator : ConvolutionOperator
+        The whole grid's 3x3 free-boundary operator.
+    gap : array_like
+        Initial gap h (m) on the whole grid.
+    initial : CoupledResult, optional
+        Warm start on the whole grid (previous step).
+    extrapolate : (CoupledResult, float), optional
+        ``(older, w)`` as for :func:`~tribobem.solvers.coupling.solve_coupled`, on the whole grid.
+    reference : array_like, shape (2, nx, ny), optional
+        Previous step's relative displacement (m) (incremental slip); None: total.
+    interaction : Interaction, optional
+        Stress law outside contact (a windowable one, see :func:`windowable`).
+    solver : callable, optional
+        Step solver with the signature of :func:`~tribobem.solvers.coupling.solve_coupled`.
+    **kw
+        Passed to ``solver`` (friction coefficient, loads in N or m, tolerances, ...).
 
     Returns
     -------
