@@ -308,3 +308,20 @@ def test_two_rigid_bodies_elsewhere_are_a_scenario_error(kind, load):
         scn["body2"].pop("film")
     with pytest.raises(ScenarioError, match="both bodies are rigid"):
         parse_scenario(scn)
+
+
+def test_humid_pulloff_with_nothing_attracting_names_humidity():
+    """At RH <= 0.3 with Paper C's linear_30_60 contribution, van der Waals off and no Dugdale
+    zone nothing attracts the bodies: the refusal names the humidity, not a load key the
+    scenario does not have (found by the fuzz tests)."""
+    from tribobem.errors import InputError
+    from tribobem.scenario import run_scenario
+
+    sc = {"kind": "pulloff", "grid": {"n": 16, "size": "0.4 um"},
+          "body1": {"E": "70 GPa", "nu": 0.17, "film": {"isotherm": "SiO2"}},
+          "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "0.5 um"}},
+          "humidity": {"rh": [0.1], "contribution": "linear_30_60", "van_der_waals": False},
+          "output": {"figures": False, "report": False}}
+    with pytest.raises(InputError) as exc:
+        run_scenario(sc, progress=False)
+    assert exc.value.field == "humidity.rh" and "nothing attracts the bodies" in str(exc.value)

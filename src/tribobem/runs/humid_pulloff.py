@@ -34,7 +34,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import ConvergenceWarning
+from ..errors import ConvergenceWarning, InputError
 from ..solvers.capillary import solve_capillary
 from .capillary import STEP_FIELDS, capillary_options, capillary_row, films_at, step_maps
 from .common import solve_kw
@@ -98,7 +98,16 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
     common = dict(film1=f1.thickness, film2=f2.thickness, tol=tol, max_iterations=max_iterations, **opts)
     notes: list[str] = []
     target = 0.0 if preload is None else float(preload)
-    start = solve_capillary(pb.operator, pb.gap, normal_force=target, **common)
+    try:
+        start = solve_capillary(pb.operator, pb.gap, normal_force=target, **common)
+    except InputError as exc:
+        if exc.field != "load.force" or preload is not None:
+            raise
+        # No attraction at all at this RH (no Dugdale zone, a zero capillary contribution, van der
+        # Waals off): no adhesive equilibrium at zero load and no pull-off to compute.
+        raise InputError("humidity.rh", f"at RH {rh:g} nothing attracts the bodies (no [adhesion], no capillary "
+                         "pressure, no van der Waals term): there is no adhesive equilibrium at zero load and no "
+                         "pull-off; give load.preload, [adhesion] or van_der_waals = true") from None
     if not start.converged:
         notes.append(f"RH {rh:g}: the start at F = {target:.4g} N did not converge ({start.message})")
     d0 = float(start.normal.approach)

@@ -465,7 +465,11 @@ class _CGState(IterativeSolver):
             cm = self.cflat
             cm[idx] = stays
             if any_overlap:
-                p[ov] -= tau * g_ov
+                # Paper A Eq. 21 with the step length; with no step this iteration (a contact gap
+                # at round-off level, tau = 0) with a node's own stiffness 1 / K_00, as before any
+                # contact: else the node enters at its outside stress with its overlap left, the
+                # pressure does not change and convergence is declared on a penetrating state
+                p[ov] -= (tau if tau > 0.0 else self.tau0) * g_ov
                 cm[ov] = True
             if use_sparse:
                 sparse = (xp.concatenate((leavers, moved_nodes)),
