@@ -31,6 +31,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.fft
 
+from ..errors import InputError
+
 _ENGINES = ("pyfftw", "mkl_fft", "scipy")
 
 
@@ -98,7 +100,6 @@ def default_fft() -> str:
     if env == "auto":
         return available_fft_engines()[0]
     if env not in _ENGINES:
-        from ..errors import InputError
 
         raise InputError("TRIBOBEM_FFT", f"must be one of auto, {', '.join(_ENGINES)}; got {env!r}")
     return env
@@ -161,7 +162,6 @@ class Backend:
 
     def __post_init__(self):
         if self.fft not in _ENGINES:
-            from ..errors import InputError
 
             raise InputError("solver.fft", f"must be one of {', '.join(_ENGINES)}; got {self.fft!r}")
 

@@ -19,7 +19,6 @@ The kernel is computed once per operator (one inverse FFT) and cached on it.
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from .backend import _pocketfft  # pocketfft's out= transforms, checked (None: the public API)

@@ -36,6 +36,7 @@ from typing import Mapping
 
 import numpy as np
 
+from ..errors import InputError
 from ..grid import Grid
 from ..materials import ContactPair
 from .backend import Backend, work_buffers
@@ -333,7 +334,6 @@ def _shape_sums(Qx, Qy, weight, names, acc) -> None:
 def _periodic_cached(grid: Grid, pair: ContactPair, components: tuple, kernel: str, n_alias: int, backend_name: str):
     be = get_backend(backend_name)
     if kernel not in ("spectral", "influence"):
-        from ..errors import InputError
 
         raise InputError("solver.kernel", f"must be 'spectral' or 'influence', got {kernel!r}")
     c = _body_constants(pair)

@@ -19,6 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .._version import __version__
+from ..errors import InputError
+
 # The one atomic-write mechanism of the package (re-exported here, where it used to live).
 from .atomic import atomic_path, atomic_write_bytes, atomic_write_text, temp_path  # noqa: F401
 
@@ -48,7 +51,7 @@ def versions() -> dict:
 
         tb = version("tribobem")
     except Exception:  # pragma: no cover - not installed
-        from .._version import __version__ as tb
+        tb = __version__
     out = {"tribobem": tb, "numpy": np.__version__, "scipy": scipy.__version__,
            "python": platform.python_version()}
     for mod in ("xarray", "matplotlib", "SurfaceTopography"):
@@ -148,6 +151,4 @@ def read_summary(path) -> dict:
         try:
             return json.load(fh)
         except json.JSONDecodeError as exc:
-            from ..errors import InputError
-
             raise InputError("summary", f"{path} is not valid JSON: {exc}") from None

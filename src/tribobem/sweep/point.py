@@ -18,6 +18,7 @@ import numpy as np
 
 from .. import _solver_version
 from ..errors import InputError
+from ..scenario import run_scenario
 from .values import _jsonable, apply_overrides, to_si
 
 __all__ = ["RECORD_VERSION", "extract_outputs", "run_point", "failed_record"]
@@ -155,7 +156,6 @@ def run_point(task: Mapping) -> dict:
         elif mode == "scenario":
             # Deferred: the scenario runner (solvers, elasticity, output) is imported on the
             # worker that runs a scenario point, not by every import of tribobem.sweep.
-            from ..scenario import run_scenario
 
             scenario = apply_overrides(task["base"], task["point"])
             kw = {"outdir": task.get("run_dir"), "progress": False, "quiet": True}

@@ -33,11 +33,24 @@ from typing import Callable, Iterable
 
 from ..errors import InputError
 from .adhesion import (
-    MD_LAMBDAS, GuduruProblem, MaugisDugdaleProblem, guduru_analytic_path, guduru_compare, guduru_extrema,
-    guduru_path, guduru_problem, guduru_rows, maugis_dugdale_problem, maugis_dugdale_rows, md_cells_cohesive,
-    md_pull_off, md_pull_off_rows, md_pull_off_scan,
+    MD_LAMBDAS,
+    GuduruProblem,
+    MaugisDugdaleProblem,
+    guduru_analytic_path,
+    guduru_compare,
+    guduru_extrema,
+    guduru_path,
+    guduru_problem,
+    guduru_rows,
+    maugis_dugdale_problem,
+    maugis_dugdale_rows,
+    md_cells_cohesive,
+    md_pull_off,
+    md_pull_off_rows,
+    md_pull_off_scan,
 )
 from .common import PAIR, SILICA, CaseFunction, ValidationRow, _row, _solve  # noqa: F401 (re-exported)
+from .gate import gate_rows
 
 __all__ = [
     "CASES", "PHYSICS", "PHYSICS_CASES", "LEVELS", "ValidationRow", "run_validation",
@@ -137,7 +150,6 @@ def run_validation(quick: bool = True, cases: Iterable[str] | None = None,
     rows: list[ValidationRow] = []
     for k, name in enumerate(names):
         if level == "ci":
-            from .gate import gate_rows
 
             rows += gate_rows(name, CASE_FUNCTIONS[name])
         else:

@@ -46,8 +46,12 @@ from typing import Callable, Sequence
 import numpy as np
 
 from ..analytic import (
-    guduru_curve, guduru_parameters, maugis_dugdale, maugis_dugdale_pull_off_force,
-    maugis_dugdale_pull_off_point, maugis_dugdale_scales,
+    guduru_curve,
+    guduru_parameters,
+    maugis_dugdale,
+    maugis_dugdale_pull_off_force,
+    maugis_dugdale_pull_off_point,
+    maugis_dugdale_scales,
 )
 from ..elasticity import free_boundary_operator
 from ..errors import ConvergenceWarning, InputError

@@ -22,12 +22,12 @@ import warnings
 
 import numpy as np
 
-from ..errors import ConvergenceWarning
-from .common import _row
-from .tangential import _mindlin_k, cattaneo_problem
 from ..analytic import mindlin as md
+from ..errors import ConvergenceWarning
 from ..runs.hysteresis import STIFFNESS_POINTS, lateral_stiffness_fit
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
+from .common import _row
+from .tangential import _mindlin_k, cattaneo_problem
 
 __all__ = ["CASES", "mindlin_deresiewicz_delta"]
 

@@ -44,6 +44,8 @@ import math
 import numpy as np
 
 from .common import _row
+from .paper_e_model import WORKS, loop_metrics, md_state, paper_e_loop, start_state
+from .references import PAPER_E_SMOOTH_REPULSIVE_FORCE
 
 __all__ = ["CASES", "paper_e_rows"]
 
@@ -65,8 +67,6 @@ def paper_e_rows(quick: bool) -> list:
     -------
     list of ValidationRow
     """
-    from .paper_e_model import WORKS, loop_metrics, md_state, paper_e_loop, start_state
-    from .references import PAPER_E_SMOOTH_REPULSIVE_FORCE
 
     n, steps = (48, 12) if quick else (96, 16)
     n_start, tol_md = (128, 0.15) if quick else (256, 0.08)

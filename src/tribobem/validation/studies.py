@@ -43,6 +43,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import ConvergenceWarning
+from .bisinusoidal import pull_off_point
 from .common import ValidationRow, _row
 from .references import PUBLISHED_CORNERS  # the published table (re-exported)
 
@@ -62,7 +63,6 @@ REPRODUCTION_TOL = (0.05, 0.01)
 
 
 def _pull_off(dgamma: float, R_c: float, E_star: float, k: float, n: int) -> float:
-    from .bisinusoidal import pull_off_point
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)

@@ -41,10 +41,6 @@ import warnings
 
 import numpy as np
 
-from ..errors import ConvergenceWarning
-from ..grid import Grid
-from ..materials import ContactPair, Material
-from .common import _row
 from ..analytic import spence_stick_ratio
 from ..analytic.hertz import hertz
 from ..analytic.mindlin import (
@@ -54,12 +50,16 @@ from ..analytic.mindlin import (
     mindlin_compliance_k,
     mindlin_initial_stiffness,
 )
-from ..elasticity.operators import make_operator, free_boundary_operator
+from ..elasticity.operators import free_boundary_operator, make_operator
+from ..elasticity.tangential import tangential_operator
+from ..errors import ConvergenceWarning
+from ..grid import Grid
+from ..materials import ContactPair, Material
 from ..solvers.coupling import solve_coupled
 from ..solvers.normal import solve_normal
 from ..solvers.slip_paths import normal_path
-from ..elasticity.tangential import tangential_operator
 from ..solvers.tangential import solve_tangential
+from .common import _row
 
 __all__ = ["CASES", "cattaneo_problem"]
 
