@@ -58,6 +58,8 @@ class LoadCurve:
         ``{"index", "branch", "kind" ("jump-in" | "jump-off"), "approach", "force"}``.
     results : list of NormalResult
         Full fields per point (only when ``keep_fields=True``; else empty).
+    steps : list of dict
+        The scalar summary of each point (:meth:`NormalResult.scalars` plus ``"branch"``; SI units).
     """
 
     control: str
@@ -84,12 +86,29 @@ class LoadCurve:
 
     @property
     def pull_off_approach(self) -> float:
+        """Approach (m) of the converged point with the most negative force; NaN if no point converged.
+
+        Unlike :attr:`pull_off_force` it is not clipped at zero: without a tensile point it is the
+        approach of the smallest (compressive) force.
+        """
         ok = np.where(self.converged)[0]
         if not len(ok):
             return float("nan")
         return float(self.approach[ok[np.argmin(self.force[ok])]])
 
     def branch_mask(self, name: str) -> np.ndarray:
+        """Which points of the curve lie on a branch.
+
+        Parameters
+        ----------
+        name : {"loading", "unloading"}
+            The branch.
+
+        Returns
+        -------
+        ndarray of bool
+            True for each point of branch ``name`` (same length as :attr:`approach`; converged or not).
+        """
         return self.branch == name
 
     @property
@@ -155,6 +174,30 @@ def find_jumps(curve: LoadCurve, threshold: float = JUMP_THRESHOLD,
     force-approach slope exceeds ``slope_factor`` times the slopes of both neighbouring
     steps: new asperities touching a rough surface change the area in bursts but leave the
     force continuous, a branch ending makes the force jump.
+
+    Only converged points are considered, each branch on its own.
+
+    Parameters
+    ----------
+    curve : LoadCurve
+        The force-approach curve (approach in m, force in N, contact area in m^2).
+    threshold : float
+        Relative change of the contact area (dimensionless, fraction of the larger of the two
+        areas of the step) above which a step is a jump candidate.
+    min_fraction : float
+        Least change of the contact area (dimensionless, fraction of the branch's largest contact
+        area) of a jump.
+    slope_factor : float
+        Least ratio (dimensionless) of the step's force-approach slope |dF/d(delta)| (N/m) to the
+        larger slope of its neighbouring steps.
+
+    Returns
+    -------
+    list of dict
+        One ``{"index", "branch", "kind", "approach", "force"}`` per jump, loading branch first, in
+        curve order: ``index`` (int) is the point just after the jump, ``branch`` "loading" or
+        "unloading", ``kind`` "jump-in" (area grows) or "jump-off" (area shrinks), ``approach`` (m)
+        and ``force`` (N) those of that point.  Empty if there is none.
     """
     jumps = []
     for name in ("loading", "unloading"):
@@ -259,6 +302,44 @@ def force_curve(
     reverse.  Where no equilibrium exists (beyond pull-off) the point is recorded as not
     converged, a jump-off is reported at the previous point, and the branch stops.  Other
     parameters as for :func:`approach_curve`.
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        The elastic operator (grid and material).
+    gap : array_like
+        Initial gap h (m).
+    forces : sequence of float
+        Total normal forces (N, compressive > 0, tensile < 0 with adhesion) of the loading branch,
+        in loading order; the unloading branch runs through the same values in reverse.
+    interaction : Interaction, optional
+        Adhesive interaction law; None: non-adhesive (hard) contact.
+    unload : bool
+        Also trace the unloading branch.
+    tol : float
+        Convergence tolerance of each solve (dimensionless, relative; see
+        :func:`~tribobem.solvers.normal.solve_normal`).
+    max_iterations : int
+        Iteration limit of each solve.
+    keep_fields : bool
+        Keep every :class:`NormalResult` (memory: ~6 fields per point).
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each converged point (``total``: number of
+        planned points of both branches).
+    method : {"polonsky_keer", "normcg"}
+        The normal solver (:func:`~tribobem.solvers.normal.solve_normal`).
+
+    Returns
+    -------
+    LoadCurve
+        ``control == "force"``; only converged points are recorded, and ``jumps`` includes the
+        force-controlled jump-offs (at the last point with an equilibrium of a branch).
+
+    Raises
+    ------
+    InputError
+        If ``forces`` is not a non-empty 1-D sequence of finite forces, or if no force of it has
+        an equilibrium (all beyond pull-off).
     """
     forces = np.asarray(forces, dtype=float)
     if forces.ndim != 1 or len(forces) < 1 or not np.all(np.isfinite(forces)):
@@ -588,8 +669,30 @@ def pull_off(
         Upper bound on the unloading steps under displacement control.
     keep_fields : bool
         Keep every :class:`NormalResult` in ``curve.results``.
+    tol : float
+        Convergence tolerance of each solve (dimensionless).
+    max_iterations : int
+        Iteration limit of each solve.
     start : {"approach", "force"}
         How the preload state is reached (see above).
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each solve.
+
+    Returns
+    -------
+    PullOff
+        ``force`` (N, the pull-off force: the most negative force of the unloading curve under
+        displacement control, the last force with an equilibrium under force control),
+        ``approach`` (m) at it, the unloading ``curve`` (:class:`LoadCurve`, approach in m, force
+        in N), the ``state`` at pull-off, the ``preload_state`` the unloading started from, and
+        ``notes`` on what the start had to give way to.
+
+    Raises
+    ------
+    InputError
+        If ``interaction`` is None, ``preload`` is not > 0 N, ``control`` or ``start`` is not one
+        of the values above, the preload state cannot be reached (no converged solution), or no
+        point of the unloading curve converged (displacement control).
     """
     if interaction is None:
         raise InputError("adhesion", "pull-off needs an adhesive interaction")
