@@ -169,3 +169,26 @@ def test_a_kind_draws_its_own_figure_sets(tmp_path):
     every = replot(tmp_path / "a")
     assert set(again) == set(every) == figs | {"report"}
     assert "<h2>Friction</h2>" in (tmp_path / "a" / "report.html").read_text()
+
+
+def test_an_approach_beyond_full_contact_of_a_periodic_cell_is_refused():
+    """Found by the fuzz tests: such a step used to stall ("near an instability there may be no
+    equilibrium"). A periodic cell in full contact sits at approach = its mean initial gap (the
+    mean displacement is fixed), so beyond it there is no equilibrium: refused naming the key."""
+    import numpy as np
+
+    from tribobem.scenario import build_problem, load_scenario, run_scenario
+
+    sc = {"grid": {"n": 32, "size": "0.25 um", "periodic": True}, "body1": {"E": "70 GPa", "nu": 0.3},
+          "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "5 um"}},
+          "load": {"approach": "1.125 nm"}, "output": {"fields": "none", "figures": False, "report": False}}
+    mean_gap = float(np.mean(build_problem(load_scenario(sc)[0]).gap))
+    assert mean_gap < 1.125e-9
+    with pytest.raises(InputError) as exc:
+        run_scenario(sc, progress=False)
+    assert exc.value.field == "load.approach" and "full contact of the periodic cell" in str(exc.value)
+    with pytest.raises(InputError) as exc:
+        run_scenario(dict(sc, load={"approaches": [0.2e-9, 1.125e-9]}), progress=False)
+    assert exc.value.field == "load.approaches"
+    ok = run_scenario(dict(sc, load={"approach": 0.5 * mean_gap}), progress=False)
+    assert ok.summary["converged"]
