@@ -398,3 +398,16 @@ def test_boolean_flags_are_accepted_with_their_negative(tmp_path):
     assert r.exit_code == 0 and "tribobem normal run" in r.output
     r = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "c"), "--quiet", "true"])
     assert r.exit_code == 2                            # a flag takes no value
+
+
+def test_run_says_how_many_rows_it_hides_and_whether_expected_was_met(tmp_path):
+    """A step table longer than 30 rows says how many it hides (the pull-off example has 34
+    steps), and ``run`` prints whether the scenario's ``expected`` was met, with the values."""
+    example = Path(__file__).resolve().parents[1] / "examples" / "pulloff_sphere.toml"
+    r = invoke("run", str(example), "-o", str(tmp_path / "ps"))
+    assert r.exit_code == 0, r.output
+    n = len(json.loads((tmp_path / "ps" / "summary.json").read_text())["steps"])
+    assert n > 30
+    assert f"{n - 30} hidden" in r.output and f"{n - 30} of {n} steps hidden above" in r.output
+    line = next(ln for ln in r.output.splitlines() if ln.startswith("expected"))
+    assert "within 3 %" in line and ": met;" in line and "pull_off_force = " in line and " against -2.5e-07" in line

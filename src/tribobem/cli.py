@@ -195,8 +195,13 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
             for key, _, _ in cols}
     table.add_column("iter", justify="right")
     table.add_column("ok", justify="center")
-    show = steps if len(steps) <= 30 else steps[:15] + steps[-15:]
+    # At most 30 rows on the terminal; a cut says how many rows it hides (all are in summary.json).
+    hidden = max(len(steps) - 30, 0)
+    show = steps if not hidden else steps[:15] + [None] + steps[-15:]
     for s in show:
+        if s is None:
+            table.add_row("...", f"[dim]{hidden} hidden[/dim]", *(["..."] * len(cols)), "", "")
+            continue
         cells = []
         for key, _, _ in cols:
             v = s.get(key)
@@ -207,6 +212,8 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         table.add_row(str(s.get("index", "")), branch, *cells, str(s.get("iterations", "")),
                       "yes" if s.get("converged") else "[red]NO[/red]")
     console.print(table)
+    if hidden:
+        console.print(f"{hidden} of {len(steps)} steps hidden above; summary.json and the report have every step")
     if summary.get("friction_coefficient") is not None:
         mu = summary["friction_coefficient"]
         if summary.get("static_friction_force") is not None:
@@ -228,6 +235,7 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         console.print(f"Tabor parameter {prob['tabor_parameter']:.3g}, Maugis parameter {prob['maugis_parameter']:.3g}")
     for w in summary.get("warnings") or []:
         console.print(f"[bold yellow]warning:[/bold yellow] {escape(str(w))}")
+    _print_expected(summary.get("expected"), console)
     t = summary.get("timings", {})
     if t:
         console.print(f"time: {t.get('total', 0):.1f} s (solve {t.get('solve', 0):.1f} s)")
@@ -235,6 +243,24 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         report = Path(outdir) / "report.html"
         console.print(f"results in [bold]{escape(str(outdir))}[/bold]"
                       + (f"; report: [bold]{escape(str(report))}[/bold]" if report.exists() else ""))
+
+
+def _print_expected(exp: dict | None, console: Console) -> None:
+    """``expected: met`` / ``not met`` with each value computed against expected (the scenario's
+    ``expected`` table; nothing without one)."""
+    if not exp:
+        return
+    head = "[bold green]met[/bold green]" if exp.get("met") else "[bold red]not met[/bold red]"
+    parts = []
+    for r in exp.get("values") or []:
+        got = "not computed" if r.get("computed") is None else f"{r['computed']:.6g}"
+        err = "" if r.get("relative_error") is None else f", {100 * r['relative_error']:.2f} %"
+        parts.append(f"{r['key']} = {got} against {r['expected']:.6g}{err}")
+    for w in exp.get("warnings") or []:
+        parts.append(f"warning {w['name']} {'raised' if w.get('present') else 'NOT raised'}")
+    tol = exp.get("tolerance")
+    tol_text = f" within {100 * tol:g} %" if tol is not None else ""
+    console.print(f"expected{tol_text} ({escape(str(exp.get('reference') or ''))}): {head}; " + escape("; ".join(parts)))
 
 
 def _run(scenario, out: Path, quiet: bool, as_json: bool, base_dir=None) -> dict:
