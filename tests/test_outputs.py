@@ -171,3 +171,17 @@ def test_jsonable_handles_numpy_and_non_finite():
     out = jsonable({"a": np.float64(1.5), "b": np.int32(3), "c": np.array([1.0, np.inf]), "d": np.bool_(True),
                     "e": math.nan, "f": Path("x")})
     assert out == {"a": 1.5, "b": 3, "c": [1.0, None], "d": True, "e": None, "f": "x"}
+
+
+def test_report_rounds_off_zero_hides_no_rows_silently_and_times_only_what_it_knows():
+    """Round-off below 1e-9 of a column prints as 0; a table cut at 200 rows says how many it
+    hides; the time row leaves output and total to summary.json (the report is written first)."""
+    from tribobem.output.report import render_report
+
+    steps = [{"index": i, "branch": "loading", "converged": True, "normal_force": 1e-6,
+              "tangential_force_x": (4.171e-22 if i == 0 else 1e-7 * i)} for i in range(250)]
+    html = render_report({"kind": "partial_slip", "converged": True, "steps": steps,
+                          "timings": {"build": 0.5, "solve": 2.0, "output": 0.0, "total": 2.5}})
+    assert "417.1 aN" not in html and "aN" not in html
+    assert "50 steps hidden (summary.json has every step)" in html
+    assert "build 0.50 s, solve 2.00 s (output and total time: summary.json)" in html

@@ -192,3 +192,22 @@ def test_an_approach_beyond_full_contact_of_a_periodic_cell_is_refused():
     assert exc.value.field == "load.approaches"
     ok = run_scenario(dict(sc, load={"approach": 0.5 * mean_gap}), progress=False)
     assert ok.summary["converged"]
+
+
+def test_stick_slip_figures_name_summary_steps_or_the_onset(tmp_path):
+    """A stick/slip map is named after its summary.json step, or after its label for the refined
+    onset (not a summary.json step): no figure names a step summary.json does not have."""
+    from tribobem.scenario import run_scenario
+
+    sc = {"kind": "partial_slip", "grid": {"n": 48, "size": "0.32 um"},
+          "body1": {"E": "130 GPa", "nu": 0.3}, "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "10 um"}},
+          "load": {"force": "10 uN"},
+          "friction": {"coefficient": 0.2, "tangential_forces": {"start": "0 uN", "stop": "2 uN", "num": 6}}}
+    r = run_scenario(sc, outdir=tmp_path / "ps", progress=False)
+    n = len(r.summary["steps"])
+    maps = [k for k in r.files if k.startswith("stickslip_")]
+    assert "stickslip_onset" in maps and r.summary["gross_slip"]
+    for k in maps:
+        if k.startswith("stickslip_step"):
+            assert int(k[len("stickslip_step"):]) < n, (k, n)
+    assert "the onset state" in (tmp_path / "ps" / "report.html").read_text()

@@ -321,13 +321,20 @@ def _tangential_step_indices(ds) -> list[int]:
     return [int(i) for i in np.nonzero(np.isfinite(fx))[0]]
 
 
-def _step_number(ds, step: int) -> int:
-    """The summary.json index of a dataset step (the dataset index when not listed)."""
+def _step_number(ds, step: int) -> int | None:
+    """The summary.json index of a dataset step; None for a state that is not a summary.json
+    step (e.g. the refined gross-slip onset), which figures name by its label instead."""
     if "summary_step" in ds.coords:
         k = int(ds["summary_step"].values[step])
-        if k >= 0:
-            return k
+        return k if k >= 0 else None
     return int(step)
+
+
+def _step_name(ds, step: int) -> str:
+    """How a figure names a dataset step: ``step k`` (k its summary.json index) or its label
+    (``onset``: the refined gross-slip onset, not a summary.json step)."""
+    k = _step_number(ds, step)
+    return f"step {k}" if k is not None else str(ds["label"].values[step])
 
 
 def stickslip_steps(ds) -> list[int]:
@@ -515,7 +522,7 @@ def _stickslip_axes(ax, ds, step: int, *, mu=None, qmax=None, window=None, lette
         ax.text(0.97, 0.96, f"$\\mathbf{{{_tex_letter(letter)}}}$", transform=ax.transAxes, ha="right", va="top",
                 fontsize=15, fontweight="bold", zorder=6,
                 bbox={"boxstyle": "round,pad=0.2", "fc": "w", "ec": "0.6", "alpha": 0.9})
-        line1 = f"step {_step_number(ds, step)}"
+        line1 = _step_name(ds, step)
         if fx is not None and abs(fx) <= 1e-9 * max(mu * f0 if mu else 0.0, abs(fn), 1e-300):
             fx = 0.0  # round-off at the start (F_x = 0)
         if mu is not None and f0 > 0 and fx is not None:
@@ -524,7 +531,7 @@ def _stickslip_axes(ax, ds, step: int, *, mu=None, qmax=None, window=None, lette
         line2 += f"stick ratio {ratio:.3f}" if n_comp else "no compressive contact"
         ax.set_title(f"{line1}\n{line2}", fontsize=9)
         return handles
-    line1 = f"step {_step_number(ds, step)}: $F$ = {format_quantity(fn, 'force', 3)}"
+    line1 = f"{_step_name(ds, step)}: $F$ = {format_quantity(fn, 'force', 3)}"
     if fx is not None:
         line1 += f", $F_x$ = {format_quantity(fx, 'force', 3)}"
     if mu is not None and f0 > 0 and fx is not None:
@@ -1458,7 +1465,10 @@ def friction_figures(ds, summary: dict, outdir) -> dict:
         names = set()
         for i in maps:
             k = _step_number(ds, i)
-            name = f"stickslip_step{k}" if f"stickslip_step{k}" not in names else f"stickslip_field{i}"
+            # a summary.json step by its index; another state (the onset) by its label
+            name = (f"stickslip_step{k}" if k is not None
+                    else "stickslip_" + "".join(c if c.isalnum() else "_" for c in _step_name(ds, i)))
+            name = name if name not in names else f"stickslip_field{i}"
             names.add(name)
             out[name] = stickslip_figure(ds, i, outdir / f"{name}.png", mu=mu, qmax=qmax or None)
     return out

@@ -166,6 +166,9 @@ def _caption(name: str) -> str:
         return _STICKSLIP_CAPTION.format(k=name[len("stickslip_step"):])
     if name.startswith("stickslip_field"):
         return _STICKSLIP_CAPTION.format(k=f"{name[len('stickslip_field'):]} of fields.nc")
+    if name.startswith("stickslip_") and not name.startswith("stickslip_loop"):
+        # a state that is not a summary.json step (the refined gross-slip onset): by its label
+        return _STICKSLIP_CAPTION.replace("step {k}", "the {k} state").format(k=name[len("stickslip_"):])
     return _CAPTIONS.get(name, name)
 
 
@@ -447,7 +450,11 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
                                               f"{st.get('rms_slope', float('nan')):.3g}"))
     t = s.get("timings", {})
     if t:
-        rows.append(("time", ", ".join(f"{k} {v:.2f} s" for k, v in t.items() if isinstance(v, (int, float)))))
+        # the report is written before the outputs are complete: their time and the total are
+        # in summary.json (written last), not here
+        done = {k: v for k, v in t.items() if isinstance(v, (int, float)) and k not in ("output", "total")}
+        rows.append(("time", ", ".join(f"{k} {v:.2f} s" for k, v in done.items())
+                     + " (output and total time: summary.json)"))
     parts.append("<h2>Key results</h2><table>")
     parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in rows]
     parts.append("</table>")
@@ -473,9 +480,23 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
         parts.append(f"<h2>Steps ({len(steps)})</h2><div class='scroll'><table class='steps'><tr><th>#</th>"
                      + "".join(f"<th>{e(c[1])}</th>" for c in cols) + "</tr>")
         show = steps if len(steps) <= 200 else steps[:100] + steps[-100:]
+        # round-off (a tangential force of 1e-22 N at F_x = 0) prints as 0: below 1e-9 of the
+        # column's largest magnitude, far below any solver tolerance
+        tiny = {k: 1e-9 * max((abs(st.get(k)) for st in steps if isinstance(st.get(k), (int, float))
+                               and not isinstance(st.get(k), bool)), default=0.0) for k, _, _ in cols}
+
+        def cell(st, k, d):
+            v = st.get(k)
+            if isinstance(v, (int, float)) and not isinstance(v, bool) and abs(v) <= tiny[k]:
+                v = 0.0
+            return _fmt(v, d)
+
         for i, st in enumerate(show):
             idx = i if len(steps) <= 200 or i < 100 else len(steps) - 200 + i
-            cells = "".join(f"<td>{e(_fmt(st.get(k), d))}</td>" for k, _, d in cols)
+            if len(steps) > 200 and i == 100:  # say what the cut hides
+                parts.append(f"<tr><td>...</td><td colspan='{len(cols)}' class='l'>{len(steps) - 200} steps hidden "
+                             "(summary.json has every step)</td></tr>")
+            cells = "".join(f"<td>{e(cell(st, k, d))}</td>" for k, _, d in cols)
             parts.append(f"<tr><td>{idx}</td>{cells}</tr>")
         parts.append("</table></div>")
     if s.get("jumps"):
