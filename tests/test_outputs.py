@@ -185,3 +185,18 @@ def test_report_rounds_off_zero_hides_no_rows_silently_and_times_only_what_it_kn
     assert "417.1 aN" not in html and "aN" not in html
     assert "50 steps hidden (summary.json has every step)" in html
     assert "build 0.50 s, solve 2.00 s (output and total time: summary.json)" in html
+
+
+def test_report_has_a_computed_against_expected_section(tmp_path):
+    """The scenario's expected values are in the report, met or not, in units, not only in the
+    raw inputs JSON."""
+    from pathlib import Path
+
+    from tribobem.scenario import run_scenario
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "pulloff_sphere.toml"
+    r = run_scenario(str(example), outdir=tmp_path / "ps", progress=False)
+    html = (tmp_path / "ps" / "report.html").read_text()
+    assert r.summary["expected"]["met"] and r.summary["expected"]["values"][0]["dimension"] == "force"
+    sec = html[html.index("<h2>Computed against expected</h2>"):]
+    assert "<span class='met'>met</span>" in sec[:600] and "pull_off_force" in sec and "-250 nN" in sec

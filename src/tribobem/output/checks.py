@@ -388,7 +388,7 @@ def _summary_value(summary: Mapping, key: str, step: int | None):
     return steps[i].get(key), f"step {steps[i].get('index', i)}"
 
 
-def compare_expected(summary: Mapping, expected: Mapping | None) -> dict | None:
+def compare_expected(summary: Mapping, expected: Mapping | None, dimensions: Mapping | None = None) -> dict | None:
     """Computed against expected values (the scenario's ``expected`` metadata, in SI).
 
     Parameters
@@ -400,6 +400,9 @@ def compare_expected(summary: Mapping, expected: Mapping | None) -> dict | None:
         "warnings": [check names], "reference": str}`` as the schema's
         :class:`~tribobem.scenario.schema.ExpectedSpec` dumps it.  A key that is not a run-level
         scalar of the summary is looked up in ``steps[step]`` (default: the last step).
+    dimensions : mapping, optional
+        Key -> dimension ("force", "length", ...) of the keys the run kind produces: copied to
+        each row (``dimension``) so that the report shows the values in units.
 
     Returns
     -------
@@ -423,7 +426,7 @@ def compare_expected(summary: Mapping, expected: Mapping | None) -> dict | None:
         else:
             got, err, within = None, None, False
         rows.append({"key": key, "where": where, "expected": ref, "computed": got, "relative_error": err,
-                     "within": bool(within)})
+                     "within": bool(within), "dimension": (dimensions or {}).get(key)})
     present = set(warning_names(summary.get("warnings") or []))
     warns = [{"name": w, "present": w in present} for w in (expected.get("warnings") or [])]
     met = all(r["within"] for r in rows) and all(w["present"] for w in warns)

@@ -138,6 +138,7 @@ figure.wide{display:block;max-width:100%}figure.mid{max-width:700px}h3{font-size
 figcaption{font-size:.85em;color:#555}pre{background:#f7f7f7;padding:1em;overflow:auto;font-size:.8em;max-height:30em}
 .muted{color:#777;font-size:.85em}.scroll{overflow-x:auto;max-width:100%}.steps{font-size:.8em}\
 .steps td{white-space:nowrap;padding:2px 5px}.steps th{padding:2px 5px}
+table{max-width:100%}td.l{overflow-wrap:anywhere}.met{color:#1e7e34;font-weight:600}.unmet{color:#d93025;font-weight:600}
 """
 
 
@@ -337,7 +338,39 @@ def _capillary_section(s: dict, hum: dict, figures: dict) -> list:
     parts.append("</table>")
     for name in _CAPILLARY_FIGURES:
         if name in figures:
-            parts.append(_figure_html(name, figures[name], "wide" if name in ("meniscus", "films") else "mid"))
+            # every capillary figure at the page's width: the two-panel ones keep readable legends
+            parts.append(_figure_html(name, figures[name], "wide"))
+    return parts
+
+
+def _expected_section(s: dict) -> list:
+    """Computed against expected (the scenario's ``expected`` table, summary.json ``expected``):
+    met or not met, each value with its relative error against the tolerance, and each warning
+    the scenario expects.  Nothing without an ``expected`` table."""
+    exp = s.get("expected")
+    if not exp:
+        return []
+    e = html.escape
+    met = bool(exp.get("met"))
+    tol = exp.get("tolerance")
+    parts = [f"<h2>Computed against expected</h2><p>Reference: {e(str(exp.get('reference') or ''))}"
+             + (f"; tolerance {100 * tol:g} %" if tol is not None else "")
+             + f": <span class='{'met' if met else 'unmet'}'>{'met' if met else 'NOT met'}</span></p>"]
+    rows = []
+    for r in exp.get("values") or []:
+        d = r.get("dimension") or "dimensionless"  # the kind's declared dimension of the key
+        err = r.get("relative_error")
+        rows.append((r.get("key"), r.get("where") or "", _fmt(r.get("expected"), d),
+                     "not computed" if r.get("computed") is None else _fmt(r.get("computed"), d),
+                     "" if err is None else f"{100 * err:.2f} %", "yes" if r.get("within") else "NO"))
+    for w in exp.get("warnings") or []:
+        rows.append((f"warning {w.get('name')}", "warnings", "raised", "raised" if w.get("present") else "not raised",
+                     "", "yes" if w.get("present") else "NO"))
+    parts.append("<table><tr><th class='l'>key</th><th class='l'>where</th><th>expected</th><th>computed</th>"
+                 "<th>relative error</th><th>within</th></tr>")
+    parts += ["<tr>" + "".join(f"<td{' class=l' if i < 2 else ''}>{e(str(c))}</td>" for i, c in enumerate(row))
+              + "</tr>" for row in rows]
+    parts.append("</table>")
     return parts
 
 
@@ -458,6 +491,8 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
     parts.append("<h2>Key results</h2><table>")
     parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in rows]
     parts.append("</table>")
+
+    parts += _expected_section(s)
 
     figures = {k: v for k, v in (figures or {}).items() if v is not None and staged_source(v).exists()}
     names = tuple(REPORT_SECTIONS) if sections is None else tuple(sections)

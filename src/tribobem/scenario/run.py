@@ -312,7 +312,8 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     if sc.expected is not None:
 
         # The scenario's stated expectation beside the computed value (metadata: no effect on the run).
-        summary["expected"] = compare_expected(summary, sc.expected.model_dump())
+        summary["expected"] = compare_expected(summary, sc.expected.model_dump(),
+                                               dimensions=RUN_KINDS[sc.kind].result_keys())
 
     # fields
     keep = sc.output.fields
