@@ -379,7 +379,7 @@ def plot_study(curves, path, title: str | None = None) -> Path:
     levelled films (Fig. 18)."""
     from matplotlib.figure import Figure
 
-    from tribobem.output.summary import atomic_write_bytes
+    from tribobem.output.atomic import atomic_write_bytes
 
     fig = Figure(figsize=(14, 8.4), layout="constrained")
     axes = fig.subplots(2, 3)

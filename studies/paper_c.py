@@ -208,7 +208,7 @@ def plot_study(table, path) -> Path:
 
     from matplotlib.figure import Figure
 
-    from tribobem.output.summary import atomic_write_bytes
+    from tribobem.output.atomic import atomic_write_bytes
 
     summ = summary_table(table)
     fig = Figure(figsize=(7.5, 4.4), layout="constrained")

@@ -392,7 +392,8 @@ def run_case(case: Case, outdir, n: int = N_DEFAULT, size: float | None = None, 
         "wall_time": wall, "solve_time": summary.get("timings", {}).get("solve"),
         "result_folder": str(folder),
     }
-    from tribobem.output.summary import atomic_write_bytes, jsonable
+    from tribobem.output.atomic import atomic_write_bytes
+    from tribobem.output.summary import jsonable
 
     if maps:
         import io
@@ -457,7 +458,7 @@ def write_csv(rows, path) -> Path:
     import csv
     import io
 
-    from tribobem.output.summary import atomic_write_bytes
+    from tribobem.output.atomic import atomic_write_bytes
 
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=list(rows[0].keys()), lineterminator="\n")
@@ -503,7 +504,7 @@ def plot_loops(records, path) -> Path:
 
     from matplotlib.figure import Figure
 
-    from tribobem.output.summary import atomic_write_bytes
+    from tribobem.output.atomic import atomic_write_bytes
 
     fig = Figure(figsize=(15, 8.6), layout="constrained")
     axs = fig.subplots(2, 3)
@@ -603,7 +604,7 @@ def plot_maps(records, path) -> Path | None:
     from matplotlib.colors import LogNorm
     from matplotlib.figure import Figure
 
-    from tribobem.output.summary import atomic_write_bytes
+    from tribobem.output.atomic import atomic_write_bytes
 
     rows = []
     for r in records:

@@ -325,3 +325,21 @@ def test_humid_pulloff_with_nothing_attracting_names_humidity():
     with pytest.raises(InputError) as exc:
         run_scenario(sc, progress=False)
     assert exc.value.field == "humidity.rh" and "nothing attracts the bodies" in str(exc.value)
+
+
+def test_capillary_approach_beyond_full_contact_of_a_periodic_cell_is_refused():
+    """The same full-contact limit as kind normal (runs.common.approach_below_full_contact)."""
+    import numpy as np
+
+    from tribobem.errors import InputError
+    from tribobem.scenario import build_problem, load_scenario, run_scenario
+
+    sc = {"kind": "capillary", "grid": {"n": 16, "size": "0.25 um", "periodic": True},
+          "body1": {"E": "70 GPa", "nu": 0.17, "film": {"isotherm": "SiO2"}},
+          "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "5 um"}},
+          "load": {"approach": "5 nm"}, "humidity": {"rh": [0.5]},
+          "output": {"fields": "none", "figures": False, "report": False}}
+    assert float(np.mean(build_problem(load_scenario(sc)[0]).gap)) < 5e-9
+    with pytest.raises(InputError) as exc:
+        run_scenario(sc, progress=False)
+    assert exc.value.field == "load.approach" and "full contact of the periodic cell" in str(exc.value)

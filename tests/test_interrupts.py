@@ -279,7 +279,7 @@ def test_one_jsonable_for_summaries_and_sweep_hashes():
     import numpy as np
 
     from tribobem.output.summary import jsonable
-    from tribobem.sweep import _jsonable
+    from tribobem.sweep.values import _jsonable
 
     class Odd:
         def __repr__(self):

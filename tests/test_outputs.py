@@ -11,7 +11,8 @@ import pytest
 
 from tribobem.output import REQUIRED_KEYS, STEP_KEYS, read_fields, read_summary, replot, write_summary
 from tribobem.output.fields import write_fields
-from tribobem.output.summary import atomic_write_text, jsonable
+from tribobem.output.atomic import atomic_write_text
+from tribobem.output.summary import jsonable
 from tribobem.scenario import run_scenario
 
 NORMAL = {

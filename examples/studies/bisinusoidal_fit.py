@@ -44,7 +44,8 @@ if str(ROOT) not in sys.path:  # the paper studies: the package `studies` at the
     sys.path.insert(0, str(ROOT))
 
 from studies.bisinusoidal import PAPER_A_FIT, PAPER_A_TABLE1, fit_pull_off
-from tribobem.sweep import atomic_path, atomic_write_text, to_si
+from tribobem.output.atomic import atomic_path, atomic_write_text
+from tribobem.units import si_value
 
 #: The published table and figure (written only with --publish).
 DATA = ROOT / "docs" / "data" / "bisinusoidal_pulloff.csv"
@@ -67,7 +68,7 @@ class NeedsMore(Exception):
 def _si(v) -> float:
     if v is None or v == "":
         return float("nan")
-    v = to_si(v)
+    v = si_value(v)
     return float(v) if isinstance(v, (int, float)) else float("nan")
 
 

@@ -347,7 +347,6 @@ def loop_from_summary(result) -> Loop:
         A folder without summary.json, a run of another kind, or fewer than
         :data:`MIN_POINTS` steps.
     """
-
     if isinstance(result, dict):
         summary, source = result, "summary"
     else:

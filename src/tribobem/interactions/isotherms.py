@@ -543,7 +543,6 @@ def isotherm_from_spec(spec, field: str = "film.isotherm") -> Isotherm:
     InputError
         Unknown name, unknown keys, or an invalid table / FHH parameters.
     """
-
     if spec is None:
         return DryIsotherm()
     if isinstance(spec, Isotherm):

@@ -449,7 +449,6 @@ def pull_off_statement(summary: Mapping) -> str:
         E.g. ``"pull-off -0.2549 µN (Maugis-Dugdale ... -0.25 µN, +2.0 %; cohesive zone 10.1
         cells wide: resolved)"``; "NOT resolved" with the names of the checks that fired.
     """
-
     f = summary.get("pull_off_force")
     text = f"pull-off {format_quantity(f, 'force', 4)}"
     inside = []

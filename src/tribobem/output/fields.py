@@ -44,7 +44,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .summary import atomic_path
+from .atomic import atomic_path
 
 __all__ = ["build_fields", "write_fields", "read_fields", "representative_step"]
 

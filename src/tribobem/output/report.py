@@ -15,7 +15,8 @@ from pathlib import Path
 from ..units import format_quantity
 from .atomic import staged_source
 from .figures import is_hysteresis, mindlin_reference
-from .summary import atomic_write_text, jsonable
+from .atomic import atomic_write_text
+from .summary import jsonable
 
 __all__ = ["render_report", "write_report"]
 
@@ -211,7 +212,12 @@ def _num(v):
     return f if math.isfinite(f) else None
 
 
-def _hysteresis_section(s: dict, fric: list, figures: dict) -> list:
+def _friction_rows(s: dict) -> list:
+    """(label, formatted value) of the run-level friction values the summary holds."""
+    return [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS if s.get(key) is not None]
+
+
+def _hysteresis_section(s: dict, figures: dict) -> list:
     """The "Friction hysteresis" section: the run's friction scalars, the loop figure, the
     energy per cycle, the lateral stiffness at Paper F's points, and the maps."""
     e = html.escape
@@ -229,7 +235,7 @@ def _hysteresis_section(s: dict, fric: list, figures: dict) -> list:
     if peak is not None:
         extra = f" = {peak / mup:.4g} \u03bc F\u2080\u207a" if mup else ""
         rows.append(("peak force F*", _fmt(peak, "force") + extra))
-    rows += fric
+    rows += _friction_rows(s)
     if s.get("static_friction_force") is None:
         rows.append(("static friction force", "not reached (the stick zone never vanished on the initial loading)"))
     lc = _num(s.get("loop_change"))
@@ -377,7 +383,7 @@ def _expected_section(s: dict) -> list:
 def friction_section(s: dict, figures: dict) -> tuple[list, dict]:
     """Report section ``friction``: the run-level friction values of a partial-slip run (a
     hysteresis run has its own section).  Returns (HTML parts, the figures left to place)."""
-    fric = [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS if s.get(key) is not None]
+    fric = _friction_rows(s)
     if not fric or is_hysteresis(s):
         return [], figures
     e = html.escape
@@ -392,8 +398,7 @@ def hysteresis_section(s: dict, figures: dict) -> tuple[list, dict]:
     C against Mindlin-Deresiewicz, with the loop figures.  Returns (HTML parts, the figures left)."""
     if not is_hysteresis(s):
         return [], figures
-    fric = [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS if s.get(key) is not None]
-    parts = _hysteresis_section(s, fric, figures)
+    parts = _hysteresis_section(s, figures)
     return parts, {k: v for k, v in figures.items() if not _is_hysteresis_figure(k)}
 
 

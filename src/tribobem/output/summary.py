@@ -21,12 +21,9 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import InputError
+from .atomic import atomic_write_text
 
-# The one atomic-write mechanism of the package (re-exported here, where it used to live).
-from .atomic import atomic_path, atomic_write_bytes, atomic_write_text, temp_path  # noqa: F401
-
-__all__ = ["STEP_KEYS", "REQUIRED_KEYS", "versions", "jsonable", "atomic_write_text", "atomic_write_bytes", "temp_path",
-           "write_summary", "read_summary"]
+__all__ = ["STEP_KEYS", "REQUIRED_KEYS", "versions", "jsonable", "write_summary", "read_summary"]
 
 #: Step keys of the 9.1 contract a normal/pull-off step carries.
 STEP_KEYS = ("normal_force", "approach", "contact_area", "repulsive_force", "adhesive_force", "adhesive_area",

@@ -36,7 +36,7 @@ from ..errors import ConvergenceWarning
 from ..interactions.films import film_thickness
 from ..interactions.menisci import contribution_coefficient
 from ..solvers.capillary import solve_capillary
-from .common import solve_kw
+from .common import approach_below_full_contact, solve_kw
 from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_elastic_body, require_humidity
 
 __all__ = ["run", "check", "KIND", "films_at", "capillary_options", "capillary_row", "step_maps", "STEP_FIELDS"]
@@ -74,7 +74,6 @@ def films_at(pb, rh: float, tol: float = 1e-10):
     (FilmResult, FilmResult)
         The films of body 1 and body 2 (thickness in m per node).
     """
-
     hs = pb.humidity
     out = []
     for surface, iso in ((hs.surface1, hs.isotherm1), (hs.surface2, hs.isotherm2)):
@@ -101,7 +100,6 @@ def capillary_options(pb, rh: float) -> dict:
         Kelvin radius (m), capillary pressure (Pa), contribution coefficient, adhesion law,
         Hamaker constants (J), contact angles (rad), critical distance and cutoff (m), periodicity.
     """
-
     hs = pb.humidity
     water = hs.water
     return {
@@ -224,8 +222,8 @@ def run(pb, bar) -> RunOutput:
     -------
     RunOutput
     """
-
     sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
+    approach_below_full_contact(pb)
     kw = solve_kw(sc)
     relief = float(np.ptp(pb.gap))
     n = len(hs.rh)

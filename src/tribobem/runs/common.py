@@ -1,12 +1,13 @@
-"""Helpers shared by the runners of several kinds (rows, curves, progress offsets)."""
+"""Helpers shared by the runners of several kinds (rows, curves, progress offsets, load checks)."""
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
 from ..solvers.paths import LoadCurve, find_jumps
 
-__all__ = ["solve_kw", "step_row", "curve_from_rows", "offset_progress"]
+__all__ = ["solve_kw", "step_row", "curve_from_rows", "offset_progress", "approach_below_full_contact"]
 
 
 def solve_kw(sc) -> dict:
@@ -61,7 +62,6 @@ def curve_from_rows(rows: list, control: str):
     LoadCurve
         The curve (approach in m, forces in N, areas in m^2) with its jumps found.
     """
-
     def col(k, dtype=float):
         return np.array([r[k] for r in rows], dtype=dtype)
 
@@ -95,3 +95,33 @@ def offset_progress(cb, offset: int, total: int):
         ``progress(done, _total)``; the path's own total is ignored.
     """
     return lambda done, _t: cb(offset + done, total)
+
+
+def approach_below_full_contact(pb) -> None:
+    """A periodic cell's mean displacement is fixed (the q = 0 mode carries no compliance), so in
+    full contact (gap 0 everywhere) the approach equals the mean initial gap: an approach at or
+    beyond it has no equilibrium (an unbounded force), which the solver could only report as a
+    stalled step.  Refused naming the key, with the limit.
+
+    Parameters
+    ----------
+    pb : Problem
+        The built scenario; its ``load.approach`` or ``load.approaches`` (m) are checked on a
+        periodic grid against the mean initial gap (m).
+
+    Raises
+    ------
+    InputError
+        On ``load.approach`` / ``load.approaches`` at or beyond full contact.
+    """
+    load = pb.scenario.load
+    approaches = [load.approach] if load.approach is not None else list(load.approaches or [])
+    if not approaches or not pb.grid.periodic or pb.operator is None:  # (two rigid bodies: no elasticity)
+        return
+    mean_gap = float(np.mean(pb.gap))
+    worst = max(approaches)
+    if worst >= mean_gap:
+        key = "load.approach" if load.approach is not None else "load.approaches"
+        raise InputError(key, f"{worst:.4g} m reaches full contact of the periodic cell: its mean initial gap is "
+                              f"{mean_gap:.4g} m, and a periodic cell in full contact sits at approach = the mean gap "
+                              f"for any mean pressure; give approaches below {mean_gap:.4g} m, or load.force")

@@ -93,7 +93,6 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
         (lists: approach, force, capillary_force, contact_area, wetted_area, converged, sorted
         from the start outward), ``force``, ``approach``, ``opts`` and ``notes``.
     """
-
     opts = capillary_options(pb, rh)
     common = dict(film1=f1.thickness, film2=f2.thickness, tol=tol, max_iterations=max_iterations, **opts)
     notes: list[str] = []

@@ -215,24 +215,25 @@ class RunKind:
             ``(key, message)`` pairs; empty when the scenario gives nothing this kind ignores.
         """
         reads = self.reads()
+        others = {k: kd.reads() for k, kd in dict(registry).items()}
+
+        def readers(section, key=None):
+            return [k for k, r in others.items()
+                    if section in r and (key is None or r[section] == ALL or key in r[section])]
+
         problems = []
         for section in SECTIONS:
             if section not in scenario.model_fields_set:
                 continue
             keys = reads.get(section)
             if keys is None:
-                by = [k for k, kd in dict(registry).items() if section in kd.reads()]
-                problems.append((section, self._message(f"[{section}]", section, by)))
-                continue
-            if keys == ALL:
-                continue
-            given = getattr(scenario, section)
-            for key in type(given).model_fields:  # declared order
-                if key in given.model_fields_set and key not in keys:
-                    dotted = f"{section}.{key}"
-                    by = [k for k, kd in dict(registry).items()
-                          if (kd.reads().get(section) == ALL or key in (kd.reads().get(section) or ()))]
-                    problems.append((dotted, self._message("it", dotted, by)))
+                problems.append((section, self._message(f"[{section}]", section, readers(section))))
+            elif keys != ALL:
+                given = getattr(scenario, section)
+                for key in type(given).model_fields:  # declared order
+                    if key in given.model_fields_set and key not in keys:
+                        dotted = f"{section}.{key}"
+                        problems.append((dotted, self._message("it", dotted, readers(section, key))))
         return problems
 
     def _message(self, what: str, key: str, by: list[str]) -> str:

@@ -11,10 +11,10 @@ import warnings
 
 import numpy as np
 
-from ..errors import ConvergenceWarning, InputError
+from ..errors import ConvergenceWarning
 from ..solvers.normal import solve_normal
 from ..solvers.paths import approach_curve, force_curve
-from .common import solve_kw, step_row
+from .common import approach_below_full_contact, solve_kw, step_row
 from .kind import RunKind, RunOutput, fail, positive_normal_load, require_elastic_body
 
 __all__ = ["run", "check", "KIND"]
@@ -39,11 +39,10 @@ def run(pb, bar) -> RunOutput:
     RunOutput
         One step per load (and per unloading load), with the solved states for fields.nc.
     """
-
     sc, load = pb.scenario, pb.scenario.load
     kw = dict(solve_kw(sc), method=sc.solver.method)
     inter = pb.interaction
-    _approach_below_full_contact(pb)
+    approach_below_full_contact(pb)
     run_level: dict = {}
     if load.force is not None or load.approach is not None:
         bar.phase("solving", 1)
@@ -81,24 +80,6 @@ def run(pb, bar) -> RunOutput:
         run_level["hysteresis_energy"] = curve.hysteresis_energy
     return RunOutput(rows=rows, results=list(curve.results), labels=labels, indices=list(range(len(rows))),
                      run=run_level, curve=curve)
-
-
-def _approach_below_full_contact(pb) -> None:
-    """A periodic cell's mean displacement is fixed (the q = 0 mode carries no compliance), so in
-    full contact (gap 0 everywhere) the approach equals the mean initial gap: an approach at or
-    beyond it has no equilibrium (an unbounded force), which the solver could only report as a
-    stalled step.  Refused naming the key, with the limit."""
-    load = pb.scenario.load
-    approaches = [load.approach] if load.approach is not None else list(load.approaches or [])
-    if not approaches or not pb.grid.periodic:
-        return
-    mean_gap = float(np.mean(pb.gap))
-    worst = max(approaches)
-    if worst >= mean_gap:
-        key = "load.approach" if load.approach is not None else "load.approaches"
-        raise InputError(key, f"{worst:.4g} m reaches full contact of the periodic cell: its mean initial gap is "
-                              f"{mean_gap:.4g} m, and a periodic cell in full contact sits at approach = the mean gap "
-                              f"for any mean pressure; give approaches below {mean_gap:.4g} m, or load.force")
 
 
 def check(sc) -> None:

@@ -49,7 +49,6 @@ def run(pb, bar) -> RunOutput:
         The steps of the loading and unloading path, with the pull-off force (N) and approach (m)
         as run-level values.
     """
-
     if getattr(pb, "humidity", None) is not None:  # [humidity]: one pull-off per RH (runs.humid_pulloff)
 
         return humid_run(pb, bar)

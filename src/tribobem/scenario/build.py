@@ -223,7 +223,6 @@ def humidity_setup(sc: Scenario, shape1, shape2, rough1, rough2) -> HumiditySetu
         at RH = 1, or an isotherm that diverges at saturation: bulk water, outside the model),
         checked here before any solve.
     """
-
     hum = sc.humidity
     if hum is None:
         return None
@@ -290,7 +289,6 @@ def resolve_path(path: str, base_dir: Path) -> Path:
         Absolute when ``path`` or ``base_dir`` is (not resolved further, not checked to exist
         except for ``"data:"`` names).
     """
-
     if str(path).startswith(DATA_PREFIX):
         return topography_path(str(path))
     p = Path(os.path.expandvars(os.path.expanduser(path)))
@@ -528,7 +526,6 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     ------
     InputError, TopographyError, MemoryBudgetError, FileNotFoundError
     """
-
     sc = scenario
     base = Path(base_dir) if base_dir is not None else Path.cwd()
     loader = _Loader(base)

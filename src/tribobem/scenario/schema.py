@@ -143,7 +143,6 @@ def Number(*, gt=None, ge=None, lt=None, le=None):
 
 def Int(*, ge=None, le=None):
     """An integer (no bools, no fractional floats), range-checked."""
-
     def validate(raw):
         if isinstance(raw, bool) or not (isinstance(raw, int) or (isinstance(raw, float) and raw.is_integer())):
             raise PydanticCustomError("int", "{message}", {"message": f"must be an integer, got {raw!r}"})

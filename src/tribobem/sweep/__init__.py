@@ -41,14 +41,13 @@ The package, one module per concern (each imports only the ones above it):
 """
 
 from .._solver_version import SOLVER_VERSION  # re-exported; the hashes read it at call time
-from ..output.atomic import TMP_GLOB, atomic_path, atomic_write_text, file_state, staged
 from .cache import pending, point_hash, point_tasks, read_points, solver_options, write_record
 from .command import default_outdir, interrupted_message, sweep_command
 from .execute import SweepResult, run_sweep
 from .point import RECORD_VERSION, extract_outputs, failed_record, run_point
 from .results import RESERVED, gather, write_results
 from .spec import SCENARIO_SECTIONS, SPEC_KEYS, SweepSpec, load_sweep
-from .values import _jsonable, apply_overrides, flatten, set_dotted, to_si  # noqa: F401 (_jsonable: imported by tests)
+from .values import apply_overrides, flatten, set_dotted
 
 __all__ = [
     # the sweep file
@@ -61,7 +60,5 @@ __all__ = [
     # gathering
     "gather", "write_results", "RESERVED",
     # values
-    "flatten", "set_dotted", "apply_overrides", "to_si",
-    # the shared atomic writes (re-exported, as before the split)
-    "TMP_GLOB", "atomic_path", "atomic_write_text", "file_state", "staged",
+    "flatten", "set_dotted", "apply_overrides",
 ]

@@ -19,7 +19,8 @@ import numpy as np
 from .. import _solver_version
 from ..errors import InputError
 from ..scenario import run_scenario
-from .values import _jsonable, apply_overrides, to_si
+from ..units import si_value
+from .values import _jsonable, apply_overrides
 
 __all__ = ["RECORD_VERSION", "extract_outputs", "run_point", "failed_record"]
 
@@ -151,7 +152,7 @@ def run_point(task: Mapping) -> dict:
             result = task["func"](dict(task["point"]))
         elif mode == "function":
             fn = _resolve_function(task["function"])
-            kwargs = {k: to_si(v) for k, v in apply_overrides(task["base"], task["point"]).items()}
+            kwargs = {k: si_value(v) for k, v in apply_overrides(task["base"], task["point"]).items()}
             result = fn(**kwargs)
         elif mode == "scenario":
             # Deferred: the scenario runner (solvers, elasticity, output) is imported on the

@@ -17,9 +17,10 @@ from pathlib import Path
 import numpy as np
 
 from ..output.atomic import atomic_path, atomic_write_text, staged
+from ..units import si_unit, si_value
 from .cache import read_points
 from .spec import SweepSpec
-from .values import _canonical, _si_unit, to_si
+from .values import _canonical
 
 __all__ = ["gather", "write_results", "RESERVED"]
 
@@ -27,10 +28,10 @@ __all__ = ["gather", "write_results", "RESERVED"]
 def _coord_values(values: list):
     """Coordinate array for a parameter: SI floats when every value is a number or a
     quantity string of one unit, else strings.  Returns (array, attrs)."""
-    conv = [to_si(v) for v in values]
+    conv = [si_value(v) for v in values]
     if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in conv):
         attrs = {}
-        units = {_si_unit(v) for v in values if isinstance(v, str)}
+        units = {si_unit(v) for v in values if isinstance(v, str)}
         if len(units) == 1 and "" not in units:
             attrs["units"] = units.pop()
         if any(isinstance(v, str) for v in values):

@@ -13,9 +13,8 @@ from collections.abc import Mapping
 
 from ..errors import InputError
 from ..output.summary import jsonable
-from ..units import parse_quantity, si_unit, si_value
 
-__all__ = ["flatten", "set_dotted", "apply_overrides", "to_si"]
+__all__ = ["flatten", "set_dotted", "apply_overrides"]
 
 
 def _jsonable(value):
@@ -110,11 +109,3 @@ def apply_overrides(base: Mapping, point: Mapping) -> dict:
     for key, value in point.items():
         set_dotted(tree, key, value)
     return tree
-
-
-# Quantities: one parser for the whole package (tribobem.units).  ``to_si`` here takes no
-# expected dimension: a quantity string becomes its value in SI base units, anything else
-# (numbers aside) comes back unchanged.
-_quantity = parse_quantity
-to_si = si_value
-_si_unit = si_unit

@@ -58,7 +58,6 @@ def mindlin_deresiewicz_delta(Q, branch: str, Q_star: float, mu: float, P: float
     float or ndarray
         Tangential displacement (m), shape of ``Q``.
     """
-
     if branch == "loading":
         return md.cattaneo_mindlin_displacement(Q, P=P, a=a, mu=mu, k=k)
     if branch == "unloading":

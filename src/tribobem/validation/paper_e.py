@@ -67,7 +67,6 @@ def paper_e_rows(quick: bool) -> list:
     -------
     list of ValidationRow
     """
-
     n, steps = (48, 12) if quick else (96, 16)
     n_start, tol_md = (128, 0.15) if quick else (256, 0.08)
     rows = []

@@ -74,7 +74,6 @@ def _quiet(fn, *a, **kw):
 
 def _mindlin_k(pair: ContactPair) -> float:
     """k = sum (2 - nu_i) / G_i of the pair (rigid bodies contribute 0)."""
-
     return mindlin_compliance_k(pair.body1.E, pair.body1.nu, pair.body2.E, pair.body2.nu)
 
 
@@ -103,7 +102,6 @@ def cattaneo_problem(n: int, periodic: bool = False, radius: float = 10e-3, forc
     a : float
         Hertz contact radius (m).
     """
-
     pair = ContactPair(STEEL, STEEL)
     a = float(hertz(force=force, radius=radius, E_star=pair.effective_modulus).contact_radius)
     size = 6.0 * a if periodic else 3.0 * a
@@ -175,7 +173,6 @@ def _stiffness_rows(quick: bool) -> list:
 
 def paper_d_problem(n: int, swap: bool = False):
     """Rigid ball (R = 10 um) and elastic flat (130 GPa, 0.3), F0 = 10 uN, +-2a (Paper D 3.1)."""
-
     elastic, rigid = Material(130e9, 0.3, "flat"), Material.rigid("ball")
     pair = ContactPair(rigid, elastic) if swap else ContactPair(elastic, rigid)
     R, P = 10e-6, 10e-6
@@ -240,7 +237,6 @@ def spence_stick_ratio_bem(beta_over_mu: float, n: int, steps: int = 24, goodman
     """(c/a from the BEM, the pair's beta/mu) at the end of an incremental normal-load path of
     ``steps`` geometric steps from ``start`` x P to P; ``goodman``: the shear does not act on the
     pressure (the assumption of the analytic solution)."""
-
     grid, gap, op, pair, a, P, mu = spence_problem(beta_over_mu, n)
     loads = list(np.geomspace(P * start, P, steps))
     path = _quiet(normal_path, op, gap, normal_forces=loads, friction_coefficient=mu, slip="incremental",
