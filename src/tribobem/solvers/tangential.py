@@ -728,7 +728,6 @@ class _TangCG(IterativeSolver):
         self.preconditioner = preconditioner
         self.inner = self.INNER if preconditioner == "diagonal" else self.INNER_FFT
         self.s_scale, self.tol = s_scale, tol
-        self.fatal = False
         self.best = (float("inf"), None, None, None)
         self.stick = st._stick_mask()
         self.res = None
@@ -773,7 +772,6 @@ class _TangCG(IterativeSolver):
         st, xp = self.st, self.xp
         self.s = self._exact(recompute=False)
         if self.s is None:
-            self.fatal = True
             return "no stick node under force control (gross slip)"
         self.steps = 0  # CG steps since the last check
         self.v = self.qv_prev = None
@@ -902,7 +900,6 @@ class _TangCG(IterativeSolver):
             for _ in range(8):
                 n_st = int(self.stick.sum())
                 if n_st == 0:
-                    self.fatal = True
                     return "no stick node left under force control (gross slip)"
                 deficit = st.target - np.array([float(q[0].sum()), float(q[1].sum())])
                 q[0, self.stick] += deficit[0] / n_st
@@ -916,7 +913,6 @@ class _TangCG(IterativeSolver):
                 changed = True
         s = self._exact()
         if s is None:
-            self.fatal = True
             return "no stick node left under force control (gross slip)"
         self.s = s
         slipm = ~self.stick
