@@ -129,17 +129,19 @@ def test_a_kind_refuses_what_it_does_not_read(kind):
         assert exc.value.field == "load.preload" and f"kind = {kind!r} does not use it" in str(exc.value)
 
 
-def test_humidity_under_a_dry_friction_kind_is_refused():
-    """The case that ran dry with no warning: [humidity] and films on a partial_slip scenario."""
-    d = scenario(kind="partial_slip", friction={"coefficient": 0.3}, humidity={"rh": [0.3, 0.7]},
-                 body1__film={"isotherm": "SiO2"})
+@pytest.mark.parametrize("kind, extra", [("partial_slip", {}), ("hysteresis", {"friction__path": {
+    "control": "force", "amplitude": 0.5, "cycles": 1, "steps": 8}})])
+def test_humidity_under_a_friction_kind_is_humid_friction(kind, extra):
+    """[humidity] and films on a friction kind are read (humid friction), not ignored; without
+    rh the section is refused by name."""
+    d = scenario(kind=kind, friction={"coefficient": 0.3}, humidity={"rh": [0.3, 0.7]},
+                 body1__film={"isotherm": "SiO2"}, **extra)
+    sc = parse_scenario(d)
+    assert sc.humidity.rh == [0.3, 0.7] and sc.body1.film is not None
+    d["humidity"] = {"van_der_waals": False}
     with pytest.raises(ScenarioError) as exc:
         parse_scenario(d)
-    assert exc.value.field == "body1.film" and "kind = 'partial_slip' does not use it" in str(exc.value)
-    d.pop("body1")
-    d["body1"] = {"E": "130 GPa", "nu": 0.28}
-    with pytest.raises(ScenarioError, match=r"humidity: kind = 'partial_slip' does not use \[humidity\]"):
-        parse_scenario(d)
+    assert exc.value.field == "humidity.rh"
 
 
 @pytest.mark.parametrize(

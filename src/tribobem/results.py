@@ -267,8 +267,11 @@ class CoupledResult:
     coupling_history : ndarray
         Relative pressure change per outer iteration.
     converged : bool
-        Both levels and the outer loop converged.
+        Both levels and the outer loop converged (and, with capillarity, the meniscus islands).
     message : str
+    capillary : CapillaryResult or None
+        With a capillary model (humid friction): the self-consistent capillary state of the last
+        normal solve (forces by origin, islands, wetted area); None otherwise.
     """
 
     normal: NormalResult
@@ -277,6 +280,7 @@ class CoupledResult:
     coupling_history: np.ndarray
     converged: bool
     message: str = ""
+    capillary: object = field(default=None, repr=False)
 
     def scalars(self) -> dict:
         """The per-step scalars of the summary.json file contract (SPEC 9.1).
@@ -291,5 +295,20 @@ class CoupledResult:
         row["normal_converged"] = row.pop("converged")
         row.update(self.tangential.scalars())
         row["coupling_iterations"] = self.coupling_iterations
+        cap = self.capillary
+        if cap is not None:
+            row.update({
+                "normal_force": float(cap.total_force),
+                "capillary_force": float(cap.capillary_force),
+                "solid_solid_force": float(cap.solid_solid_force),
+                "water_solid_force": float(cap.water_solid_force),
+                "adhesive_force_total": float(cap.capillary_force + cap.solid_solid_force + cap.water_solid_force),
+                "wetted_area": float(cap.wetted_area),
+                "island_count": int(cap.island_count),
+                "kelvin_radius": float(cap.kelvin_radius),
+                "capillary_pressure": float(cap.capillary_pressure),
+                "island_iterations": int(cap.outer_iterations),
+                "islands_converged": bool(cap.converged),
+            })
         row["converged"] = self.converged
         return row

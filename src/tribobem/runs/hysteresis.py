@@ -24,7 +24,9 @@ from ..analytic.mindlin import mindlin_compliance_k, mindlin_reloading_stiffness
 from ..errors import InputError
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
 from .common import solve_kw
-from .kind import TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load, require_elastic_body, require_friction
+from .humid_friction import meniscus_fields, run_per_rh
+from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,
+                   require_elastic_body, require_friction, require_humidity)
 from .partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
 
 __all__ = ["run", "check", "KIND", "lateral_stiffness_fit", "STIFFNESS_POINTS"]
@@ -113,6 +115,9 @@ def _stiffness_table(rows, run, mu, f0p, radius, k_compliance, e=(1.0, 0.0)):
 def run(pb, bar) -> RunOutput:
     """Run a ``hysteresis`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
+    With ``[humidity]``: one loop per RH under the capillary model, after a dry reference
+    (:mod:`tribobem.runs.humid_friction`).
+
     Parameters
     ----------
     pb : Problem
@@ -128,20 +133,30 @@ def run(pb, bar) -> RunOutput:
         One step per point of the cyclic path, with the loop's run-level values (energies in J,
         lateral stiffness in N/m) and the states for fields.nc.
     """
+    if pb.humidity is not None:
+        return run_per_rh(pb, bar, _run_one, "hysteresis")
+    return _run_one(pb, bar, pb.interaction, None, "")[0]
+
+
+def _run_one(pb, bar, interaction, initial, label: str):
+    """One loop with the stress law ``interaction``; returns the RunOutput and its start (F_x =
+    0, the next RH's warm start)."""
     sc = pb.scenario
     fr, load = sc.friction, sc.load
     path = fr.path
     mu = float(fr.coefficient)
     kw = solve_kw(sc)
+    model = interaction if getattr(interaction, "self_consistent", False) else None
 
     solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
                  "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE}
     n_steps = max(path.steps // 4, 4) + path.cycles * 2 * (path.steps // 2)
-    bar.phase("hysteresis steps", n_steps)
+    bar.phase(f"{label}: hysteresis steps" if label else "hysteresis steps", n_steps)
     res = hysteresis_loop(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, control=path.control,
                           amplitude=path.amplitude if path.amplitude is not None else 0.999, stroke=path.stroke,
-                          cycles=path.cycles, steps=path.steps, direction=fr.direction, interaction=pb.interaction,
-                          moving_gap=pb.shifted_gap if pb.upper_moves_visibly else None, progress=bar, **solver_kw)
+                          cycles=path.cycles, steps=path.steps, direction=fr.direction, interaction=interaction,
+                          moving_gap=pb.shifted_gap if pb.upper_moves_visibly else None, progress=bar,
+                          initial=initial, **solver_kw)
     e = res.direction
     f0p = res.start.normal.repulsive_force
 
@@ -217,8 +232,9 @@ def run(pb, bar) -> RunOutput:
             keep += [i + 1, i + 2] if i + 2 < len(rows) else [i + 1]
     keep = sorted(set(k for k in keep if k < len(rows)))
     all_states = [res.start] + res.steps
-    results = [all_states[i].normal for i in keep]
-    tangential = [all_states[i].tangential for i in keep]
+    kept = [all_states[i] for i in keep]
+    results = [s.normal for s in kept]
+    tangential = [s.tangential for s in kept]
     labels = [f"{rows[i]['branch']} {rows[i]['cycle']} step {i}" for i in keep]
     cycle_fields = {}
     if len(res.dissipation) > 1:
@@ -228,8 +244,11 @@ def run(pb, bar) -> RunOutput:
             "accumulated_slip": (res.accumulated_slip[1:], {"units": "m", "long_name": "accumulated slip length per "
                                                             "cycle (sum of |ds|)"}),
         }
-    return RunOutput(rows=rows, results=results, tangential=tangential, labels=labels, indices=keep,
-                     run=run_level, cycle_fields=cycle_fields)
+    if res.start.capillary is not None:
+        run_level["capillary_force"] = res.start.capillary.capillary_force
+    out = RunOutput(rows=rows, results=results, tangential=tangential, labels=labels, indices=keep,
+                    run=run_level, cycle_fields=cycle_fields, step_fields=meniscus_fields(kept, model))
+    return out, res.start
 
 
 def check(sc) -> None:
@@ -248,6 +267,8 @@ def check(sc) -> None:
     """
     require_elastic_body(sc)
     fr, load = require_friction(sc), sc.load
+    if sc.humidity is not None:
+        require_humidity(sc)
     if fr.path is None:
         fail("friction.path", "required for kind = 'hysteresis': e.g. { control = \"force\", "
              "amplitude = 0.999, cycles = 3, steps = 80 } or { control = \"displacement\", "
@@ -272,8 +293,9 @@ KIND = RunKind(
     summary="friction hysteresis: tangential force or displacement cycles at one normal force",
     figures=("hysteresis", "friction", "maps"), report_sections=("hysteresis",),
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
-             "presliding_displacement": "length", **TANGENTIAL_STEPS},
-    uses={"load": ("force",), "friction": ("coefficient", "direction", "slip", "path")},
+             "presliding_displacement": "length", **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
+    uses={"load": ("force",), "friction": ("coefficient", "direction", "slip", "path"),
+          "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker")},
     hints={"load.forces": _ONE_FORCE, "load.approach": _ONE_FORCE, "load.approaches": _ONE_FORCE,
            "friction.tangential_forces": _PATH, "friction.tangential_displacements": _PATH},
 )

@@ -22,7 +22,9 @@ import math
 from ..errors import InputError
 from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
 from .common import solve_kw
-from .kind import TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load, require_elastic_body, require_friction
+from .humid_friction import meniscus_fields, run_per_rh
+from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,
+                   require_elastic_body, require_friction, require_humidity)
 
 __all__ = ["run", "check", "KIND"]
 
@@ -49,6 +51,9 @@ def _row(res, branch: str, mu: float, e) -> dict:
 def run(pb, bar) -> RunOutput:
     """Run a ``partial_slip`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
+    With ``[humidity]``: one ramp per RH under the capillary model, after a dry reference
+    (:mod:`tribobem.runs.humid_friction`).
+
     Parameters
     ----------
     pb : Problem
@@ -64,34 +69,45 @@ def run(pb, bar) -> RunOutput:
         One step per solved tangential (or normal-path) value, with the coupled normal and
         tangential states for fields.nc.
     """
+    if pb.humidity is not None:
+        return run_per_rh(pb, bar, _run_one, "partial_slip")
+    return _run_one(pb, bar, pb.interaction, None, "")[0]
+
+
+def _run_one(pb, bar, interaction, initial, label: str):
+    """One ramp (or normal-load path) with the stress law ``interaction``; returns the
+    RunOutput and the state at zero tangential force (the next RH's warm start)."""
     sc = pb.scenario
     fr, load = sc.friction, sc.load
     mu = float(fr.coefficient)
     kw = solve_kw(sc)
     solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
                  "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE}
+    model = interaction if getattr(interaction, "self_consistent", False) else None
     theta = math.radians(fr.direction)
     e = (math.cos(theta), math.sin(theta))
     run_level: dict = {"friction_coefficient": mu, "slip": fr.slip, "direction": fr.direction}
+    prefix = f"{label}: " if label else ""
     if load.forces is not None:  # check() paired it with tangential_forces only
-        bar.phase("normal steps", len(load.forces))
+        bar.phase(f"{prefix}normal steps", len(load.forces))
         steps = normal_path(pb.operator, pb.gap, normal_forces=load.forces, friction_coefficient=mu,
                             tangential_forces=fr.tangential_forces, direction=fr.direction,
-                            interaction=pb.interaction, slip=fr.slip, progress=bar, **solver_kw)
+                            interaction=interaction, slip=fr.slip, progress=bar, **solver_kw)
         rows = [_row(r, "normal_path", mu, e) for r in steps]
-        return RunOutput(rows=rows, results=[r.normal for r in steps], tangential=[r.tangential for r in steps],
-                         labels=[f"normal_path {k}" for k in range(len(steps))], indices=list(range(len(steps))),
-                         run=run_level)
+        out = RunOutput(rows=rows, results=[r.normal for r in steps], tangential=[r.tangential for r in steps],
+                        labels=[f"normal_path {k}" for k in range(len(steps))], indices=list(range(len(steps))),
+                        run=run_level, step_fields=meniscus_fields(steps, model))
+        return out, (steps[0] if steps else None)
 
     forces = fr.tangential_forces
     displacements = fr.tangential_displacements
     if forces is None and displacements is None:
         forces = [0.0]
     n = len(forces if forces is not None else displacements)
-    bar.phase("tangential steps", n)
+    bar.phase(f"{prefix}tangential steps", n)
     ramp = tangential_ramp(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, forces=forces,
-                           displacements=displacements, direction=fr.direction, interaction=pb.interaction,
-                           slip=fr.slip, refine_tol=ONSET_TOLERANCE, progress=bar, **solver_kw)
+                           displacements=displacements, direction=fr.direction, interaction=interaction,
+                           slip=fr.slip, refine_tol=ONSET_TOLERANCE, progress=bar, initial=initial, **solver_kw)
     steps = list(ramp.steps)
     rows = [_row(r, "ramp", mu, e) for r in steps]
     run_level["gross_slip"] = bool(ramp.gross_slip)
@@ -115,14 +131,14 @@ def run(pb, bar) -> RunOutput:
         run_level["zero_force_stick_ratio"] = z.tangential.stick_ratio
         run_level["repulsive_force"] = z.normal.repulsive_force
         run_level["adhesive_force"] = z.normal.adhesive_force
-    results = [r.normal for r in steps]
-    tangential = [r.tangential for r in steps]
+        if z.capillary is not None:
+            run_level["capillary_force"] = z.capillary.capillary_force
+    states = list(steps)
     labels = [f"ramp {k}" for k in range(len(steps))]
     indices = list(range(len(steps)))
     if ramp.onset_state is not None:
         # The last state with stick at the refined onset: the map a user wants to see.
-        results.append(ramp.onset_state.normal)
-        tangential.append(ramp.onset_state.tangential)
+        states.append(ramp.onset_state)
         labels.append("onset")
         indices.append(-1)
     if not steps:
@@ -132,9 +148,10 @@ def run(pb, bar) -> RunOutput:
             raise InputError("friction.tangential_forces", f"no step of the ramp has an equilibrium: {ramp.message}")
         z = ramp.zero_state
         rows = [_row(z, "zero_force", mu, e)]
-        results, tangential, labels, indices = [z.normal], [z.tangential], ["zero force"], [0]
-    return RunOutput(rows=rows, results=results, tangential=tangential, labels=labels, indices=indices,
-                     run=run_level)
+        states, labels, indices = [z], ["zero force"], [0]
+    out = RunOutput(rows=rows, results=[s.normal for s in states], tangential=[s.tangential for s in states],
+                    labels=labels, indices=indices, run=run_level, step_fields=meniscus_fields(states, model))
+    return out, ramp.zero_state
 
 
 def check(sc) -> None:
@@ -154,6 +171,8 @@ def check(sc) -> None:
     """
     require_elastic_body(sc)
     fr, load = require_friction(sc), sc.load
+    if sc.humidity is not None:
+        require_humidity(sc)
     if len(fr.tangential_given) > 1:
         fail("friction.tangential_displacements", "give at most one of tangential_forces (force "
              "control) or tangential_displacements (displacement control)")
@@ -188,9 +207,10 @@ KIND = RunKind(
     figures=("load_curve", "friction", "maps"), report_sections=("friction",),
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
              "presliding_displacement": "length", "max_tangential_force": "force",
-             "zero_force_stick_ratio": "dimensionless", **TANGENTIAL_STEPS},
+             "zero_force_stick_ratio": "dimensionless", **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
     uses={"load": ("force", "forces"),
-          "friction": ("coefficient", "tangential_forces", "tangential_displacements", "direction", "slip")},
+          "friction": ("coefficient", "tangential_forces", "tangential_displacements", "direction", "slip"),
+          "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker")},
     hints={"friction.path": "a partial_slip ramp is friction.tangential_forces or "
                             "friction.tangential_displacements",
            "load.approach": _APPROACH, "load.approaches": _APPROACH},

@@ -108,18 +108,7 @@ class Problem:
             The gap (m) with body 2 moved, minus the same :attr:`gap_offset` as the unshifted
             gap (so its minimum need not be 0).
         """
-        ox, oy = (float(v) for v in offset)
-        upper = self.shape2 - self.roughness2
-        if ox == 0.0 and oy == 0.0:
-            moved = upper
-        elif self.grid.periodic:
-            kx = 2.0 * np.pi * np.fft.fftfreq(self.grid.nx, self.grid.dx)[:, None]
-            ky = 2.0 * np.pi * np.fft.rfftfreq(self.grid.ny, self.grid.dy)[None, :]
-            moved = np.fft.irfft2(np.fft.rfft2(upper) * np.exp(-1j * (kx * ox + ky * oy)), s=upper.shape)
-        else:
-            from scipy.ndimage import shift
-
-            moved = shift(upper, (ox / self.grid.dx, oy / self.grid.dy), order=3, mode="nearest")
+        moved = self.grid.translate(self.shape2 - self.roughness2, offset)
         lower = self.shape1 - self.roughness1
         return lower + moved - self.gap_offset
 
@@ -561,7 +550,7 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     interaction = None
     if sc.adhesion.enabled:
         interaction = DugdaleAdhesion(sc.adhesion.work_of_adhesion, sc.adhesion.z0)
-    humidity = humidity_setup(sc, shape1, shape2, rough1, rough2) if sc.kind in ("capillary", "pulloff") else None
+    humidity = humidity_setup(sc, shape1, shape2, rough1, rough2) 
 
     E_star = pair.effective_modulus if pair is not None else None  # None: both bodies rigid
     info.update({

@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -43,7 +43,7 @@ from ..interactions.van_der_waals import DEFAULT_CUTOFF, HAMAKER_SIO2, HAMAKER_W
 from ..results import NormalResult
 from .normal import solve_normal
 
-__all__ = ["CapillaryResult", "solve_capillary", "island_fixed_point"]
+__all__ = ["CapillaryResult", "CapillaryModel", "solve_capillary", "island_fixed_point"]
 
 
 @dataclass
@@ -122,6 +122,96 @@ class CapillaryResult:
             "converged": self.converged,
         })
         return d
+
+
+@dataclass(frozen=True)
+class CapillaryModel:
+    """The capillary model of one RH, for solvers that call the normal solve themselves.
+
+    A plain stress law (:class:`~tribobem.interactions.base.Interaction`) depends on the local
+    gap only; the capillary law also depends on the meniscus islands, which depend on the whole
+    gap.  The coupling loop (:func:`~tribobem.solvers.coupling.solve_coupled`) therefore calls
+    :meth:`solve_state` (the island fixed point of :func:`solve_capillary`) where it calls the
+    normal solver for a plain law: the islands are recomputed at every pass of every step.
+
+    Attributes
+    ----------
+    film1, film2 : ndarray
+        Film thicknesses of bodies 1 and 2 on the grid (m), each on its body's undeformed
+        topography.
+    options : dict
+        The remaining keyword arguments of :func:`solve_capillary` (Kelvin radius in m,
+        capillary pressure in Pa, contribution, adhesion, Hamaker constants in J, contact angles
+        in rad, critical distance and cutoff in m, periodicity, ...).
+    grid : Grid
+        The grid of the films (for :meth:`moved`).
+    offset : (float, float)
+        Rigid displacement of body 2's film from its initial place (m).
+    film2_origin : ndarray or None
+        Body 2's film at zero offset (None: ``film2`` is); every :meth:`moved` starts from it, so
+        interpolation errors do not accumulate along a path.
+    """
+
+    film1: np.ndarray
+    film2: np.ndarray
+    options: dict
+    grid: Grid
+    offset: tuple = (0.0, 0.0)
+    film2_origin: np.ndarray | None = field(default=None, repr=False)
+
+    #: Solvers recognise a self-consistent law by this attribute (see solvers.coupling).
+    self_consistent = True
+
+    @property
+    def h0(self) -> float:
+        """Range of the Dugdale law (m) the model contains; 0 without one."""
+        adh = self.options.get("adhesion")
+        return float(adh.h0) if adh is not None and hasattr(adh, "h0") else 0.0
+
+    def solve_state(self, operator, gap, *, tol: float, max_iterations: int, initial=None,
+                    normal_force: float | None = None, approach: float | None = None) -> CapillaryResult:
+        """The self-consistent capillary state on ``gap`` (:func:`solve_capillary`, not strict: a
+        cycling island fixed point comes back with ``converged=False``).
+
+        Parameters
+        ----------
+        operator : ConvolutionOperator
+            The elastic operator (3x3 in the coupling loop: its z block is used).
+        gap : array_like
+            The gap (m), with the shear-induced normal displacement in it.
+        tol, max_iterations : float, int
+            Normal solver settings.
+        initial : CapillaryResult or NormalResult, optional
+            Warm start: its pressure and its gap (the first islands).
+        normal_force, approach : float
+            Exactly one: N or m.
+
+        Returns
+        -------
+        CapillaryResult
+        """
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            return solve_capillary(operator, gap, normal_force=normal_force, approach=approach, film1=self.film1,
+                                   film2=self.film2, tol=tol, max_iterations=max_iterations, initial=initial,
+                                   **self.options)
+
+    def moved(self, offset) -> "CapillaryModel":
+        """The model with body 2 (the counterface) moved rigidly by ``offset`` (m) from its
+        initial place: its film moves with it (gross sliding), body 1's stays.
+
+        Parameters
+        ----------
+        offset : (float, float)
+            Total rigid displacement of body 2 (m).
+
+        Returns
+        -------
+        CapillaryModel
+        """
+        origin = self.film2 if self.film2_origin is None else self.film2_origin
+        film2 = np.maximum(self.grid.translate(origin, offset), 0.0)  # cubic interpolation may undershoot 0
+        return replace(self, film2=film2, offset=(float(offset[0]), float(offset[1])), film2_origin=origin)
 
 
 def island_fixed_point(islands: Islands, step: Callable[[Islands], tuple[object, Islands]], max_outer: int):

@@ -119,8 +119,12 @@ def solve_coupled(
     tangential_force : (float, float), optional
         (F_x, F_y) on body 2 (N); or ``tangential_displacement`` (delta_x, delta_y) in m.
         Neither: zero tangential force.
-    interaction : Interaction, optional
-        Stress law outside contact (e.g. Dugdale adhesion).
+    interaction : Interaction or CapillaryModel, optional
+        Stress law outside contact (e.g. Dugdale adhesion), or a self-consistent law (an object
+        with ``self_consistent = True`` and a ``solve_state`` method, e.g.
+        :class:`~tribobem.solvers.capillary.CapillaryModel`): its ``solve_state`` then replaces
+        the normal solve of every pass (the meniscus islands recomputed each time) and its state
+        is kept on the result (``capillary``).
     reference : array_like, shape (2, nx, ny), optional
         Previous step's relative displacement (incremental slip, Paper E Eq. 5); None: total.
     initial : CoupledResult, optional
@@ -167,6 +171,24 @@ def solve_coupled(
     xp = top.xp
     h = xp.asarray(gap, dtype=float)
     normal_load = {"force": normal_force} if normal_force is not None else {"approach": approach}
+
+    # A self-consistent law (capillary islands) solves its own normal problem: the islands are
+    # recomputed from the gap of every pass.
+    humid = bool(getattr(interaction, "self_consistent", False))
+    box = {"state": None}
+
+    def normal_solve(h_k, n_tol, warm, contact0=None):
+        if humid:
+            if not isinstance(warm, NormalResult) and not hasattr(warm, "normal"):
+                warm = initial.normal if initial is not None else None  # an extrapolated pressure: the last state
+            box["state"] = interaction.solve_state(operator, h_k, tol=n_tol, max_iterations=max_iterations,
+                                                   initial=warm, normal_force=normal_force, approach=approach)
+            return box["state"].normal
+        if contact0 is not None:
+            return solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
+                                initial_pressure=warm, initial_contact=contact0, **normal_load)
+        return solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
+                            initial_pressure=warm, **normal_load)
 
     shear = None
     stick = None
@@ -239,12 +261,10 @@ def solve_coupled(
                 max(tol, min(INEXACT_NORMAL, 1e-2 * last_change))
             if isinstance(p_init, tuple):  # extrapolated pressure with the contact of the last step
                 p0, c0 = p_init
-                normal = solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
-                                      initial_pressure=p0, initial_contact=c0, **normal_load)
+                normal = normal_solve(h_k, n_tol, p0, c0)
                 p_init = initial.normal  # the change of the first pass is measured from the last step
             else:
-                normal = solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
-                                      initial_pressure=p_init, **normal_load)
+                normal = normal_solve(h_k, n_tol, p_init)
             if k == 1 and predicted is not None:
                 # the predictor solved the shear at this pressure: a fixed-point difference
                 p_prev = predicted
@@ -265,8 +285,7 @@ def solve_coupled(
             if done and n_tol > tol:
                 # Accepted at an inexact normal tolerance (<= 1e-2 x the last change, below the
                 # estimated error): finish the same normal problem at ``tol``.
-                normal = solve_normal(operator, h_k, interaction=interaction, tol=tol, max_iterations=max_iterations,
-                                      initial_pressure=normal, **normal_load)
+                normal = normal_solve(h_k, tol, normal)
             final = done or k == n_outer
             t_tol = tangential_tol if final else max(tangential_tol, min(INEXACT_TANGENTIAL, 1e-2 * last_change))
             tang = solve_tangential(operator, normal.pressure, normal.contact,
@@ -306,16 +325,20 @@ def solve_coupled(
         if not converged:
             message = (f"coupling loop not converged after {max_coupling} iterations (pressure change "
                        f"{history[-1]:.3e}, tolerance {coupling_tol:.1e})")
-    ok = converged and normal.converged and tang.converged
+    cap = box["state"]
+    islands_ok = cap is None or bool(cap.converged)
+    ok = converged and normal.converged and tang.converged and islands_ok
     if not ok:
         parts = [message] if not converged else []
-        if not normal.converged:
+        if not islands_ok:
+            parts.append(f"meniscus islands: {cap.message}")
+        elif not normal.converged:
             parts.append(f"normal solver: {normal.message}")
         if not tang.converged:
             parts.append(f"tangential solver: {tang.message}")
         message = "; ".join(parts)
         warnings.warn(message, ConvergenceWarning, stacklevel=2)
     res = CoupledResult(normal=normal, tangential=tang, coupling_iterations=len(history),
-                        coupling_history=np.asarray(history), converged=ok, message=message)
+                        coupling_history=np.asarray(history), converged=ok, message=message, capillary=cap)
     res._contraction = _contraction(history, None, first) if two_way else None
     return res

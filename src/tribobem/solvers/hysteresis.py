@@ -184,6 +184,7 @@ def hysteresis_loop(
     moving_gap: Callable | None = None,
     progress: Callable[[int, int], None] | None = None,
     window: bool = True,
+    initial=None,
     **solver_kw,
 ) -> HysteresisRun:
     """Run tangential force or displacement cycles at a fixed normal force.
@@ -218,6 +219,8 @@ def hysteresis_loop(
         start (free boundary, Dugdale or no adhesion; :mod:`.window`): exact, checked after every
         step (the window grows, up to the whole grid, when a node outside it closes or comes
         within the adhesive range).  False: every step on the whole grid.
+    initial : CoupledResult, optional
+        Warm start of the start's solve (e.g. the previous RH's start); the iterations only.
     **solver_kw
         Passed to :func:`~tribobem.solvers.coupling.solve_coupled`.
 
@@ -232,7 +235,7 @@ def hysteresis_loop(
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         start = solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
-                              interaction=interaction, **solver_kw)
+                              interaction=interaction, initial=initial, **solver_kw)
         if control == "force":
             if not (0 < amplitude <= 1):
                 raise InputError("friction.path.amplitude", f"must be in (0, 1], got {amplitude!r}")
@@ -252,6 +255,7 @@ def hysteresis_loop(
         windowed = win is not None
         offset = np.zeros(2)
         gap_k = gap
+        law_k = interaction
         n_cycles = int(path.cycle.max())
         diss = [None] * (n_cycles + 1)
         slip = [None] * (n_cycles + 1)
@@ -263,6 +267,8 @@ def hysteresis_loop(
                 d_new = v * e
                 offset = offset + (d_new - d_prev)
                 gap_k = moving_gap(offset)
+                if hasattr(interaction, "moved"):
+                    law_k = interaction.moved(offset)  # the counterface's film moves with it
             # Linear extrapolation of the warm start while the load keeps its direction (not across a
             # turning point, where the state's history changes branch).
             extra = None
@@ -275,12 +281,12 @@ def hysteresis_loop(
                 if windowed:
                     res, win = solve_coupled_windowed(
                         win, operator, gap_k, friction_coefficient=mu, normal_force=normal_force,
-                        interaction=interaction, reference=prev.tangential.relative_displacement,
+                        interaction=law_k, reference=prev.tangential.relative_displacement,
                         initial=prev, extrapolate=extra, solver=solve_coupled, **load, **solver_kw)
                     windowed = win is not None  # grown to the whole grid: stay there
                 else:
                     res = solve_coupled(operator, gap_k, friction_coefficient=mu, normal_force=normal_force,
-                                        interaction=interaction, reference=prev.tangential.relative_displacement,
+                                        interaction=law_k, reference=prev.tangential.relative_displacement,
                                         initial=prev, extrapolate=extra, **load, **solver_kw)
             except GrossSlipError as exc:
                 raise GrossSlipError(

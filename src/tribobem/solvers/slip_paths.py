@@ -143,6 +143,7 @@ def tangential_ramp(
     refine_tol: float = 1e-3,
     max_refine: int = 40,
     progress: Callable[[int, int], None] | None = None,
+    initial: CoupledResult | None = None,
     **solver_kw,
 ) -> SlipRamp:
     """Ramp the tangential load at a fixed normal force until gross slip.
@@ -168,6 +169,9 @@ def tangential_ramp(
     max_refine : int
     progress : callable, optional
         ``progress(done, total)``.
+    initial : CoupledResult, optional
+        Warm start of the first solve (e.g. the F_t = 0 state of the previous RH); only the
+        iterations start from it, never the slip reference.
     **solver_kw
         Passed to :func:`~tribobem.solvers.coupling.solve_coupled` (tol, tangential_tol, ...).
 
@@ -201,7 +205,7 @@ def tangential_ramp(
         # The F_t = 0 state: the origin of the pre-sliding displacement.
         zero = None
         if not values or values[0] != 0.0:
-            zero = solve(0.0, None, None)
+            zero = solve(0.0, initial, None)
         prev = None
         last_stick = None
         failed_value = None
@@ -216,7 +220,7 @@ def tangential_ramp(
                 if (v - v1) * (v1 - v0) > 0:
                     extra = (older, min((v - v1) / (v1 - v0), 2.0))
             try:
-                res = solve(v, prev, ref_of(prev), extra)
+                res = solve(v, prev if prev is not None else (zero or initial), ref_of(prev), extra)
             except GrossSlipError as exc:
                 ramp.max_force = exc.max_force
                 failed_value = v
