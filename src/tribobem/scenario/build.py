@@ -550,7 +550,7 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     interaction = None
     if sc.adhesion.enabled:
         interaction = DugdaleAdhesion(sc.adhesion.work_of_adhesion, sc.adhesion.z0)
-    humidity = humidity_setup(sc, shape1, shape2, rough1, rough2) 
+    humidity = humidity_setup(sc, shape1, shape2, rough1, rough2)
 
     E_star = pair.effective_modulus if pair is not None else None  # None: both bodies rigid
     info.update({
