@@ -378,9 +378,16 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
 
 
 # ----------------------------------------------------------------------------- expected values
-def _summary_value(summary: Mapping, key: str, step: int | None):
+def _summary_value(summary: Mapping, key: str, step: int | None, rh: float | None = None):
     if step is None and key in summary and not isinstance(summary[key], (list, dict)):
         return summary[key], "run"
+    if rh is not None and isinstance(summary.get(key), list) and isinstance(summary.get("rh"), list):
+        # a humid run's run-level list in RH order, read at the stated RH
+        rhs = summary["rh"]
+        hit = [i for i, v in enumerate(rhs) if abs(float(v) - float(rh)) <= 1e-12]
+        if not hit or len(summary[key]) != len(rhs):
+            return None, f"RH {rh:g}"
+        return summary[key][hit[0]], f"RH {rh:g}"
     steps = summary.get("steps") or []
     i = -1 if step is None else int(step)
     if not steps or not (-len(steps) <= i < len(steps)):
@@ -399,7 +406,8 @@ def compare_expected(summary: Mapping, expected: Mapping | None, dimensions: Map
         ``{"values": {key: value (SI)}, "tolerance": relative, "step": int or None,
         "warnings": [check names], "reference": str}`` as the schema's
         :class:`~tribobem.scenario.schema.ExpectedSpec` dumps it.  A key that is not a run-level
-        scalar of the summary is looked up in ``steps[step]`` (default: the last step).
+        scalar of the summary is looked up in ``steps[step]`` (default: the last step); with
+        ``"rh"``, a run-level list in RH order (humid runs) is read at that RH.
     dimensions : mapping, optional
         Key -> dimension ("force", "length", ...) of the keys the run kind produces: copied to
         each row (``dimension``) so that the report shows the values in units.
@@ -417,7 +425,7 @@ def compare_expected(summary: Mapping, expected: Mapping | None, dimensions: Map
     tol = expected.get("tolerance")
     rows = []
     for key, ref in (expected.get("values") or {}).items():
-        got, where = _summary_value(summary, key, expected.get("step"))
+        got, where = _summary_value(summary, key, expected.get("step"), expected.get("rh"))
         if isinstance(got, (int, float, np.floating, np.integer)) and not isinstance(got, (bool, np.bool_)) \
                 and math.isfinite(float(got)):
             got = float(got)

@@ -730,6 +730,8 @@ class ExpectedSpec(Section):
     * one or more value keys from :data:`EXPECTED_KEYS`, each a quantity of its dimension (a
       number in SI or a string with a unit); a step key is read at ``step`` (an index into
       summary.json ``steps``, default the last);
+    * ``rh``: in a humid run (``[humidity]``), a run-level key that is a list in RH order is read
+      at this RH (one of ``humidity.rh``);
     * ``reference`` (required): what the value comes from (an analytic solution, a published
       result, a finer grid);
     * ``tolerance`` (required with a value): the relative deviation the reference admits, in
@@ -744,6 +746,7 @@ class ExpectedSpec(Section):
     reference: str = Field(min_length=1)
     tolerance: Optional[Number(gt=0, lt=1)] = None
     step: Optional[Int()] = None
+    rh: Optional[Number(gt=0, le=1)] = None
     warnings: list[Literal[CHECK_NAMES]] = Field(default_factory=list)
     values: dict[str, float] = Field(default_factory=dict)
 
