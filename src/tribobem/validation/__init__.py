@@ -69,6 +69,8 @@ PHYSICS = (
     "paper_e",     # paper_e (dissimilar adhesive hysteresis, Paper E 3.2)
     "studies",     # bisinusoidal_resolution (the published Paper A section 6 table)
     "capillary",   # sphere_flat_capillary, capillary_force_balance (Papers B, C)
+    "humid_friction",  # humid_dry_limit, humid_uncoupled_onset, humid_coupled_onset, humid_force_balance,
+                       # humid_loop_energy (partial_slip and hysteresis with [humidity])
 )
 
 

@@ -15,7 +15,8 @@ What each case runs (:data:`GATE`):
     JGH asymptotes at 1024^2 (normal); Guduru's three waviness ratios at 192^2 (adhesion); every
     tangential case (Cattaneo-Mindlin, periodic, stiffness, coupling signs, Spence); the
     Mindlin-Deresiewicz loop (hysteresis); Paper E's hysteresis study at 256^2 (paper_e); the
-    bisinusoidal resolution check with the published 625-case table (studies).
+    bisinusoidal resolution check with the published 625-case table (studies); the humid
+    friction cases at 64^2 (humid_friction).
 ``maugis_dugdale``, ``md_pull_off``
     The Maugis-Dugdale table of SPEC 5: lambda = 0.1, 0.3, 0.5, 1 and 2 at their full
     resolution (cohesive zone >= 12 cells, 15 rows each, 3 % / 5 %; pull-off 3 %), and
@@ -122,6 +123,9 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
     "paper_e": "full",
     # studies
     "bisinusoidal_resolution": "full",
+    # humid_friction (64^2, about 30 s on 2 cores)
+    "humid_dry_limit": "full", "humid_uncoupled_onset": "full", "humid_coupled_onset": "full",
+    "humid_force_balance": "full", "humid_loop_energy": "full",
 }
 
 
