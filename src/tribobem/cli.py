@@ -177,6 +177,8 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         cols = (("normal_force", "F", "force"), ("tangential_force_x", "F_x", "force"),
                 ("displacement_x", "\u03b4_x", "length"), ("contact_area", "A_c", "area"),
                 ("stick_ratio", "A_st/A_c", "dimensionless"), ("max_pressure", "p_max", "pressure"))
+        if any("rh" in s for s in steps):  # humid friction: one ramp or loop per RH, told apart by RH
+            cols = (("rh", "RH", "dimensionless"),) + cols
     elif any("capillary_force" in s for s in steps):
         # Capillary kinds: one row per RH with the adhesive force components and the meniscus.
         cols = (("rh", "RH", "dimensionless"), ("normal_force", "F", "force"), ("capillary_force", "F_cap", "force"),
@@ -216,7 +218,9 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         console.print(f"{hidden} of {len(steps)} steps hidden above; summary.json and the report have every step")
     if summary.get("friction_coefficient") is not None:
         mu = summary["friction_coefficient"]
-        if summary.get("static_friction_force") is not None:
+        if isinstance(summary.get("rh"), list):  # humid friction: the run-level values are per RH
+            _print_humid_friction(summary, console)
+        elif summary.get("static_friction_force") is not None:
             console.print("gross-slip onset (static friction): "
                           f"[bold]{format_quantity(summary['static_friction_force'], 'force', 4)}"
                           f"[/bold] = {summary['static_friction_ratio']:.4f} \u03bc F0+ (\u03bc = {mu:g}); pre-sliding "
@@ -243,6 +247,42 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         report = Path(outdir) / "report.html"
         console.print(f"results in [bold]{escape(str(outdir))}[/bold]"
                       + (f"; report: [bold]{escape(str(report))}[/bold]" if report.exists() else ""))
+
+
+def _print_humid_friction(summary: dict, console: Console) -> None:
+    """One line per RH (and the dry reference first) of a humid friction run: the static friction
+    force and ratio, the presliding displacement (partial_slip) or the sliding force and the last
+    cycle's dissipated energy (hysteresis).  The run-level values are lists in RH order there."""
+    from .units import format_quantity
+
+    def at(key, i):
+        v = summary.get(key)
+        return v[i] if isinstance(v, list) and i < len(v) else None
+
+    def line(label, get):
+        parts = []
+        sff = get("static_friction_force")
+        if sff is not None:
+            ratio = get("static_friction_ratio")
+            parts.append(f"static friction [bold]{format_quantity(sff, 'force', 4)}[/bold]"
+                         + (f" = {ratio:.4f} \u03bc F0+" if isinstance(ratio, (int, float)) else ""))
+        else:
+            parts.append("no gross slip")
+        if get("presliding_displacement") is not None:
+            parts.append(f"pre-sliding {format_quantity(get('presliding_displacement'), 'length', 4)}")
+        if get("sliding_force") is not None:
+            parts.append(f"sliding force {format_quantity(get('sliding_force'), 'force', 4)}")
+        energy = get("dissipated_energy")
+        if isinstance(energy, list) and energy and energy[-1] is not None:
+            parts.append(f"dissipated energy (last cycle) {format_quantity(energy[-1], 'energy', 4)}")
+        console.print(f"{label}: " + ", ".join(parts))
+
+    dry = summary.get("dry") or {}
+    console.print(f"humid friction (\u03bc = {summary['friction_coefficient']:g}), per RH:")
+    if dry:
+        line("  dry reference", dry.get)
+    for i, rh in enumerate(summary["rh"]):
+        line(f"  RH {100 * float(rh):.3g} %", lambda key, i=i: at(key, i))
 
 
 def _print_expected(exp: dict | None, console: Console) -> None:

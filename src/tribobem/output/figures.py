@@ -1,7 +1,8 @@
 """PNG figures of a run (matplotlib, Agg, no pyplot state): topography, pressure map, contact
 map, centre-line profile, force-approach curve; for the tangential kinds (partial_slip,
 hysteresis) stick/slip maps with traction arrows, stick ratio and displacement against
-F_x/(mu F0+), and stick ratio against the normal force of a normal-load path; for hysteresis
+F_x/(mu F0+), and stick ratio against the normal force of a normal-load path (humid runs: the
+meniscus edge outlined on the maps, and the curves per RH in :mod:`.humid`); for hysteresis
 the loop F_x - delta_x with Paper E's points (A, D, D', H ...), the lateral stiffness at Paper
 F's points A, B, C, the last cycle's dissipation and accumulated-slip maps, and the stick/slip
 maps at Paper E's points in one figure.
@@ -20,20 +21,27 @@ import numpy as np
 from ..units import display_unit, format_quantity
 from .fields import representative_step
 from .plotting import COLORS, CONTACT_COLORS, map_axes, map_extent, new_figure, save_png, step_title
+from .plotting import finite as _num
+from .plotting import friction_coefficient as _friction_coefficient
+from .plotting import is_hysteresis
 from .capillary import capillary_figures, capillary_step, is_capillary
+from .humid import humid_friction_figures, is_humid_friction, rh_label, rh_summary
 
 __all__ = ["FIGURE_NAMES", "make_figures", "topography_figure", "pressure_figure", "contact_figure",
            "profile_figure", "force_curve_figure", "stickslip_figure", "stickslip_steps", "stick_ratio_figure",
            "stick_normal_figure", "is_hysteresis", "turning_point_letters", "mindlin_reference",
            "hysteresis_loop_figure", "lateral_stiffness_figure", "dissipation_figure", "loop_map_steps",
            "loop_stickslip_figure", "hysteresis_figures", "FIGURE_SETS", "load_curve_figures", "friction_figures",
-           "hysteresis_run_figures", "capillary_run_figures", "map_figures"]
+           "hysteresis_run_figures", "capillary_run_figures", "map_figures", "meniscus_mask",
+           "humid_stickslip_steps", "humid_stickslip_figure", "humid_friction_run_figures"]
 
 #: File stems of the figures, in report order.  ``stickslip`` stands for the stick/slip maps,
 #: one per shown step, named ``stickslip_step<k>`` (k: the step's index in summary.json), or,
-#: for a hysteresis run, one multi-panel ``stickslip_loop`` at Paper E's points (A, D, D' ...);
+#: for a hysteresis run, one multi-panel ``stickslip_loop`` at Paper E's points (A, D, D' ...),
+#: for a humid partial-slip run one multi-panel ``stickslip_rh`` (a map per RH);
 #: ``dissipation`` for ``dissipation_cycle<k>`` (hysteresis: maps of the last cycle).
-FIGURE_NAMES = ("hysteresis_loop", "capillary_forces", "pulloff_rh", "force_curve", "stick_ratio", "stick_normal",
+FIGURE_NAMES = ("hysteresis_loop", "humid_friction_rh", "humid_friction_curve", "capillary_forces", "pulloff_rh",
+                "force_curve", "stick_ratio", "stick_normal",
                 "stickslip", "lateral_stiffness", "dissipation", "meniscus", "films", "pressure", "contact", "profile",
                 "pressure_pulloff", "contact_pulloff", "topography")
 
@@ -292,27 +300,6 @@ _OTHER_COLORS = ("#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f
 _ARROWS_PER_DIAMETER = 22
 
 
-def _num(v):
-    """``v`` as a finite float, else None."""
-    try:
-        f = float(v)
-    except (TypeError, ValueError):
-        return None
-    return f if np.isfinite(f) else None
-
-
-def _friction_coefficient(summary: dict | None, ds=None):
-    """mu from the summary (run-level, else the scenario echo), else the fields' attribute."""
-    s = summary or {}
-    mu = _num(s.get("friction_coefficient"))
-    if mu is None:
-        fr = (s.get("inputs") or {}).get("friction") or {}
-        mu = _num(fr.get("coefficient")) if isinstance(fr, dict) else None
-    if mu is None and ds is not None:
-        mu = _num(ds.attrs.get("friction_coefficient"))
-    return mu if mu is not None and mu > 0 else None
-
-
 def _tangential_step_indices(ds) -> list[int]:
     """Steps of the dataset that hold a tangential solution."""
     if ds is None or "shear_x" not in ds or "tangential_force_x" not in ds.coords:
@@ -423,6 +410,35 @@ def stickslip_figure(ds, step: int, path, *, mu: float | None = None, qmax: floa
     return save_png(fig, path)
 
 
+_MENISCUS_EDGE = "#00a087"  # the meniscus outline: a teal apart from the stick/slip/tensile colours
+
+
+def meniscus_mask(ds, step: int):
+    """The wetted region of a humid state: active meniscus (outside contact) or contact.
+
+    Its edge is the meniscus's outer edge; the contact is included so that the outline does not
+    also trace the contact edge (the meniscus field excludes the contact).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run (fields.nc); humid runs carry the step field ``meniscus``.
+    step : int
+        Dataset step.
+
+    Returns
+    -------
+    ndarray of bool or None
+        Grid-shaped mask; None when the dataset has no ``meniscus`` field (a dry run).
+    """
+    if ds is None or "meniscus" not in ds:
+        return None
+    men = np.asarray(ds["meniscus"].values[step]).astype(bool)
+    if not men.any():
+        return men
+    return men | np.asarray(ds["contact"].values[step]).astype(bool)
+
+
 def _stickslip_masks(ds, step: int):
     p = np.asarray(ds["pressure"].values[step])
     comp = p > 0
@@ -442,6 +458,7 @@ def _stickslip_axes(ax, ds, step: int, *, mu=None, qmax=None, window=None, lette
     from matplotlib.patches import Patch
 
     comp, stick, slip, tensile = _stickslip_masks(ds, step)
+    wet = meniscus_mask(ds, step)
     code = np.where(stick, 3, np.where(slip, 2, np.where(tensile, 1, 0)))
     qx = np.nan_to_num(np.asarray(ds["shear_x"].values[step], dtype=float))
     qy = np.nan_to_num(np.asarray(ds["shear_y"].values[step], dtype=float))
@@ -451,6 +468,8 @@ def _stickslip_axes(ax, ds, step: int, *, mu=None, qmax=None, window=None, lette
     y = np.asarray(ds["y"].values)
     if window is None:
         active = comp | tensile
+        if wet is not None:  # the zoom keeps the meniscus outline in view
+            active = active | wet
         lf0, _ = display_unit(np.abs(x) * 2, "length")
         xl, yl = _zoom_window(ds, active, lf0)
         lf, ll = display_unit([max(abs(v) for v in (*xl, *yl)) * lf0 * 1.0001], "length")
@@ -462,6 +481,9 @@ def _stickslip_axes(ax, ds, step: int, *, mu=None, qmax=None, window=None, lette
               norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5, 3.5], 4), interpolation="nearest")
     if comp.any() and 0 < comp.sum() < comp.size:
         ax.contour(x / lf, y / lf, comp.T.astype(float), levels=[0.5], colors="0.25", linewidths=0.6)
+    if wet is not None and 0 < wet.sum() < wet.size:
+        ax.contour(x / lf, y / lf, wet.T.astype(float), levels=[0.5], colors=_MENISCUS_EDGE, linewidths=1.6,
+                   zorder=2.5)
 
     # traction arrows, ~22 per contact diameter, on a lattice centred on the contact
     qkey = None
@@ -506,6 +528,10 @@ def _stickslip_axes(ax, ds, step: int, *, mu=None, qmax=None, window=None, lette
     if np.any(np.asarray(ds["adhesive"].values)):
         handles.append(Patch(color=_STICKSLIP_COLORS[1], label="tensile zone, p < 0 (no shear)"))
     handles.append(Patch(facecolor=_STICKSLIP_COLORS[0], edgecolor="0.6", label="no contact"))
+    if wet is not None and wet.any():
+        from matplotlib.lines import Line2D
+
+        handles.append(Line2D([], [], color=_MENISCUS_EDGE, lw=1.8, label="meniscus edge"))
 
     ax.set_xlim(*xl)
     ax.set_ylim(*yl)
@@ -744,24 +770,6 @@ def _tex_letter(letter: str) -> str:
     return letter.replace("_", r"\_")
 
 
-def is_hysteresis(summary: dict | None) -> bool:
-    """True for a hysteresis run: ``kind`` says so, or the step rows carry a ``cycle``.
-
-    Parameters
-    ----------
-    summary : dict or None
-        The run summary (summary.json); None gives False.
-
-    Returns
-    -------
-    bool
-    """
-    s = summary or {}
-    if s.get("kind") == "hysteresis":
-        return True
-    return any(isinstance(r, dict) and "cycle" in r for r in s.get("steps") or [])
-
-
 def turning_point_letters(rows: list) -> dict:
     """Paper E's names of the summary rows: the start A (F_x = 0, row 0), the turning points
     D, H, L, P, T, X (then TP7, TP8 ...) -- the last row of each branch -- and the row right
@@ -978,6 +986,8 @@ def hysteresis_loop_figure(summary: dict, path) -> Path | None:
                 labels.append(b)
     ax.legend(handles, labels, fontsize=8, loc="upper left", framealpha=0.9)
     title = "friction hysteresis loop"
+    if _num(summary.get("rh")) is not None:  # one RH of a humid run
+        title += f" at RH {100 * float(summary['rh']):.3g} %"
     peak = _num(summary.get("peak_force"))
     if peak is not None and mu is not None and f0p:
         title += f", $F^*$ = {format_quantity(peak, 'force', 3)} = {peak / (mu * f0p):.3g} $\\mu F_0^+$"
@@ -989,7 +999,9 @@ def hysteresis_loop_figure(summary: dict, path) -> Path | None:
     ax.set_title(title, fontsize=10)
 
     if ax2 is not None:
-        k = np.arange(len(rows))
+        # one RH of a humid run holds that RH's rows only: number them as summary.json does
+        k0 = int(_num(rows[0].get("index")) or 0) if _num(summary.get("rh")) is not None else 0
+        k = np.arange(len(rows)) + k0
         for b, idx in segs:
             c = int(cyc[idx[-1]])
             color = _CYCLE_COLORS[c % len(_CYCLE_COLORS)]
@@ -999,14 +1011,14 @@ def hysteresis_loop_figure(summary: dict, path) -> Path | None:
         for i, name in letters.items():
             if name.endswith("'"):
                 if np.isfinite(sr[i]):
-                    ax2.annotate(name, (i, sr[i]), xytext=(5, 0), textcoords="offset points", fontsize=8,
+                    ax2.annotate(name, (k[i], sr[i]), xytext=(5, 0), textcoords="offset points", fontsize=8,
                                  fontweight="bold", ha="left", va="center", color="0.15")
                 continue
             if name != "A":
-                ax2.axvline(i, color="0.5", lw=0.7, ls=":", zorder=0)
-            ax2.text(i, 1.075, name, ha="center", va="center", fontsize=8, fontweight="bold", color="0.15")
+                ax2.axvline(k[i], color="0.5", lw=0.7, ls=":", zorder=0)
+            ax2.text(k[i], 1.075, name, ha="center", va="center", fontsize=8, fontweight="bold", color="0.15")
         ax2.set_ylim(-0.03, 1.13)
-        ax2.set_xlim(-0.04 * len(rows) - 0.5, 1.02 * len(rows) - 0.5)
+        ax2.set_xlim(k0 - 0.04 * len(rows) - 0.5, k0 + 1.02 * len(rows) - 0.5)
         ax2.set_xlabel("step (summary.json index)")
         ax2.set_ylabel(r"stick ratio $A_\mathrm{stick}/A_\mathrm{c}$")
         ax2.grid(alpha=0.3)
@@ -1184,7 +1196,9 @@ def lateral_stiffness_figure(summary: dict, path) -> Path | None:
     ax.grid(alpha=0.3)
     h2, l2 = ax.get_legend_handles_labels()
     ax.legend(handles + h2, labels + l2, fontsize=8, loc="lower left", framealpha=0.9)
-    ax.set_title("lateral stiffness at Paper F's points A, B, C", fontsize=10)
+    rh = _num(summary.get("rh"))
+    ax.set_title("lateral stiffness at Paper F's points A, B, C" + (f" (RH {100 * rh:.3g} %)" if rh is not None else ""),
+                 fontsize=10)
     return save_png(fig, path)
 
 
@@ -1196,7 +1210,8 @@ def _cycle_maps(ds):
     return ds
 
 
-def dissipation_figure(ds, path, cycle_index: int = -1, *, work: float | None = None) -> Path | None:
+def dissipation_figure(ds, path, cycle_index: int = -1, *, work: float | None = None,
+                       rh: float | None = None) -> Path | None:
     """Frictional dissipation (J/m^2) and accumulated slip (nm) of one cycle, zoomed to the
     contact (nodes that never carried compressive contact are blank).  None when the fields
     have no per-cycle maps.
@@ -1213,6 +1228,9 @@ def dissipation_figure(ds, path, cycle_index: int = -1, *, work: float | None = 
         to the stationary loop).
     work : float, optional
         The cycle's traction work (J), quoted in the title.
+    rh : float, optional
+        The RH (fraction) of the maps, quoted in the title (a humid run keeps the per-cycle maps
+        of its last RH).
 
     Returns
     -------
@@ -1259,14 +1277,14 @@ def dissipation_figure(ds, path, cycle_index: int = -1, *, work: float | None = 
         ax.set_ylabel(f"y ({ll})")
         ax.set_title(title, fontsize=10)
         fig.colorbar(im, ax=ax, shrink=0.85, label=f"({unit})")
-    head = f"cycle {cyc}"
+    head = f"cycle {cyc}" + (f" at RH {100 * rh:.3g} %" if rh is not None else "")
     if work is not None:
         head += f": dissipated energy {format_quantity(work, 'energy', 3)} (traction work)"
     fig.suptitle(head, fontsize=10)
     return save_png(fig, path)
 
 
-def loop_map_steps(ds, summary: dict) -> list[tuple[int, str]]:
+def loop_map_steps(ds, summary: dict, offset: int = 0) -> list[tuple[int, str]]:
     """The dataset steps of a hysteresis run to show as stick/slip maps, with Paper E's names:
     at most six, A, D, D' and the last turning points (for one cycle: A, D, D', H, H', L).
     Empty when the dataset steps cannot be named (no ``summary_step``, no rows).
@@ -1277,6 +1295,9 @@ def loop_map_steps(ds, summary: dict) -> list[tuple[int, str]]:
         The fields of the run (fields.nc, :mod:`tribobem.output.fields`).
     summary : dict
         The run summary (summary.json), its ``steps`` rows in particular.
+    offset : int
+        Index in the dataset's ``summary_step`` of ``summary``'s first row: a one-RH summary of
+        a humid run (:func:`tribobem.output.humid.rh_summary`) holds only that RH's rows.
 
     Returns
     -------
@@ -1291,8 +1312,8 @@ def loop_map_steps(ds, summary: dict) -> list[tuple[int, str]]:
     named = []
     for i in steps:
         k = int(ds["summary_step"].values[i])
-        if k in letters:
-            named.append((i, letters[k]))
+        if k >= 0 and k - offset in letters:
+            named.append((i, letters[k - offset]))
     if len(named) <= _MAX_LOOP_MAPS:
         return named
     head = [p for p in named if p[1] in ("A", "D", "D'")][:3]
@@ -1300,7 +1321,7 @@ def loop_map_steps(ds, summary: dict) -> list[tuple[int, str]]:
     return head + rest[-(_MAX_LOOP_MAPS - len(head)):]
 
 
-def loop_stickslip_figure(ds, picks, path, *, mu=None) -> Path:
+def loop_stickslip_figure(ds, picks, path, *, mu=None, title=None) -> Path:
     """Stick/slip maps at Paper E's points (``picks``: (dataset step, name)), one panel each
     (up to three per row), on a common zoom and a common traction scale.
 
@@ -1314,6 +1335,8 @@ def loop_stickslip_figure(ds, picks, path, *, mu=None) -> Path:
         The PNG file to write (atomically).
     mu : float, optional
         Friction coefficient, for the panels' F_x/(mu F0+).
+    title : str, optional
+        A title over the panels (a humid run: the RH of the maps).
 
     Returns
     -------
@@ -1324,7 +1347,8 @@ def loop_stickslip_figure(ds, picks, path, *, mu=None) -> Path:
     active = np.zeros((ds.sizes["x"], ds.sizes["y"]), dtype=bool)
     for i, _ in picks:
         comp, _s, _sl, tensile = _stickslip_masks(ds, i)
-        active |= comp | tensile
+        wet = meniscus_mask(ds, i)
+        active |= comp | tensile | (wet if wet is not None else False)
     lf0, _ = display_unit(np.abs(x) * 2, "length")
     xl, yl = _zoom_window(ds, active, lf0)
     lf, ll = display_unit([max(abs(v) for v in (*xl, *yl)) * lf0 * 1.0001], "length")
@@ -1347,6 +1371,106 @@ def loop_stickslip_figure(ds, picks, path, *, mu=None) -> Path:
             if r < nrow - 1 and (r + 1) * ncol + c < len(picks):
                 axes[r, c].set_xlabel("")
     fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=9, frameon=False)
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return save_png(fig, path)
+
+
+#: Most stick/slip maps of the per-RH figure of a humid run: more panels get too small to read.
+_MAX_RH_MAPS = 4
+
+
+def humid_stickslip_steps(ds, at_most: int = _MAX_RH_MAPS) -> list[tuple[int, float]]:
+    """Dataset steps of the per-RH stick/slip maps: for each RH (at most ``at_most``: the first,
+    the last and evenly in between) its kept tangential state half-way (in kept states) from the
+    first to the last one that still has stick nodes: a developed slip annulus around a stick
+    zone that is still large enough to see (the last one is often all but gross slip).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The fields of the run (fields.nc) with the ``rh`` step coordinate.
+    at_most : int
+        Most maps.
+
+    Returns
+    -------
+    list of (int, float)
+        (dataset step position, RH as a fraction), in RH order of the run.
+    """
+    if ds is None or "rh" not in ds.coords or "shear_x" not in ds or "tangential_force_x" not in ds.coords:
+        return []
+    rh = np.asarray(ds["rh"].values, dtype=float)
+    fx = np.asarray(ds["tangential_force_x"].values, dtype=float)
+    stick = np.asarray(ds["stick"].values) if "stick" in ds else None
+    order = []
+    for v in rh:
+        if np.isfinite(v) and v not in order:
+            order.append(float(v))
+    picks = []
+    for v in order:
+        steps = [i for i in range(len(rh)) if rh[i] == v and np.isfinite(fx[i])]
+        if not steps:
+            continue
+        with_stick = [i for i in steps if stick is not None and stick[i].any()]
+        last = (with_stick or steps)[-1]
+        between = [i for i in steps if i <= last]
+        picks.append((between[len(between) // 2], v))
+    if len(picks) > at_most:
+        keep = sorted({int(round(k)) for k in np.linspace(0, len(picks) - 1, at_most)})
+        picks = [picks[k] for k in keep]
+    return picks
+
+
+def humid_stickslip_figure(ds, picks, path, *, mu=None) -> Path | None:
+    """Stick/slip maps of one state per RH (``picks`` from :func:`humid_stickslip_steps`), on a
+    common zoom (contact, tensile zone and meniscus of every panel) and a common traction scale,
+    each tagged with its RH; the meniscus edge outlined.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run (fields.nc) with the tangential variables.
+    picks : sequence of (int, float)
+        (dataset step position, RH as a fraction) of each panel.
+    path : path-like
+        The PNG file to write (atomically).
+    mu : float, optional
+        Friction coefficient, for the panels' F_x/(mu F0+).
+
+    Returns
+    -------
+    Path or None
+        The written PNG file; None without picks.
+    """
+    if not picks:
+        return None
+    x = np.asarray(ds["x"].values)
+    active = np.zeros((ds.sizes["x"], ds.sizes["y"]), dtype=bool)
+    for i, _ in picks:
+        comp, _s, _sl, tensile = _stickslip_masks(ds, i)
+        men = meniscus_mask(ds, i)
+        active |= comp | tensile | (men if men is not None else False)
+    lf0, _ = display_unit(np.abs(x) * 2, "length")
+    xl, yl = _zoom_window(ds, active, lf0)
+    lf, ll = display_unit([max(abs(v) for v in (*xl, *yl)) * lf0 * 1.0001], "length")
+    xl, yl = tuple(v * lf0 / lf for v in xl), tuple(v * lf0 / lf for v in yl)
+    qmax = max(float(np.nanmax(np.hypot(np.nan_to_num(ds["shear_x"].values[i]),
+                                        np.nan_to_num(ds["shear_y"].values[i])))) for i, _ in picks)
+    ncol = 2 if len(picks) == 4 else min(3, len(picks))
+    nrow = -(-len(picks) // ncol)
+    fig = new_figure(4.6 * ncol, 4.6 * nrow + 0.6)
+    axes = fig.subplots(nrow, ncol, squeeze=False)
+    handles = []
+    for ax, (i, rh) in zip(axes.flat, picks):
+        handles = _stickslip_axes(ax, ds, i, mu=mu, qmax=qmax or None, window=(xl, yl, lf, ll))
+        ax.text(0.97, 0.04, rh_label(rh), transform=ax.transAxes, ha="right", va="bottom", fontsize=11,
+                fontweight="bold", zorder=6, bbox={"boxstyle": "round,pad=0.25", "fc": "w", "ec": "0.6", "alpha": 0.9})
+    for ax in list(axes.flat)[len(picks):]:
+        ax.set_visible(False)
+    for h in handles:  # the areas in the labels are the last panel's: name the colours only
+        h.set_label(h.get_label().split(":")[0])
+    fig.legend(handles=handles, loc="outside lower center", ncols=min(len(handles), 5), fontsize=9, frameon=False)
     return save_png(fig, path)
 
 
@@ -1385,7 +1509,8 @@ def hysteresis_figures(ds, summary: dict, outdir) -> dict:
         works = (summary or {}).get("dissipation_work") or []
         work = _num(works[-1]) if works else None
         try:
-            fig = dissipation_figure(ds, outdir / f"dissipation_cycle{cyc}.png", -1, work=work)
+            fig = dissipation_figure(ds, outdir / f"dissipation_cycle{cyc}.png", -1, work=work,
+                                     rh=_num((summary or {}).get("rh")))
         except safe:
             fig = None
         if fig is not None:
@@ -1429,7 +1554,9 @@ def load_curve_figures(ds, summary: dict, outdir) -> dict:
 def friction_figures(ds, summary: dict, outdir) -> dict:
     """Figure set ``friction``: stick ratio against F_x/(mu F0+) (or against the normal force
     of a normal-load path) and the stick/slip maps of the shown steps (a hysteresis run shows
-    its maps at Paper E's points instead: set ``hysteresis``).
+    its maps at Paper E's points instead: set ``hysteresis``).  A humid run: the stick/slip
+    maps of one state per RH (``stickslip_rh``) only; its curves per RH are set
+    ``humid_friction``'s.
 
     Parameters
     ----------
@@ -1447,6 +1574,14 @@ def friction_figures(ds, summary: dict, outdir) -> dict:
     """
     outdir = Path(outdir)
     out = {}
+    if is_humid_friction(summary):
+        # one ramp or loop per RH: the curves per RH are set humid_friction's (one line through
+        # every RH tangles); the maps: one per RH (partial_slip), Paper E's points (hysteresis)
+        if ds is None or is_hysteresis(summary):
+            return out
+        fig = humid_stickslip_figure(ds, humid_stickslip_steps(ds), outdir / "stickslip_rh.png",
+                                     mu=_friction_coefficient(summary, ds))
+        return {"stickslip_rh": fig} if fig is not None else out
     for name, func in (("stick_normal", stick_normal_figure), ("stick_ratio", stick_ratio_figure)):
         try:
             fig = func(summary, outdir / f"{name}.png")
@@ -1494,12 +1629,39 @@ def hysteresis_run_figures(ds, summary: dict, outdir) -> dict:
     """
     if not is_hysteresis(summary):
         return {}
+    offset, title = 0, None
+    if is_humid_friction(summary):
+        # the loop of the last RH, whose per-cycle maps fields.nc keeps; every RH's loop: set
+        # humid_friction
+        summary, offset = rh_summary(summary, -1)
+        title = f"stick and slip at Paper E's points, RH {100 * summary['rh']:.3g} %"
     out = hysteresis_figures(ds, summary, outdir)
-    picks = loop_map_steps(ds, summary) if ds is not None else []
+    picks = loop_map_steps(ds, summary, offset) if ds is not None else []
     if picks:
         out["stickslip_loop"] = loop_stickslip_figure(ds, picks, Path(outdir) / "stickslip_loop.png",
-                                                      mu=_friction_coefficient(summary, ds))
+                                                      mu=_friction_coefficient(summary, ds), title=title)
     return out
+
+
+def humid_friction_run_figures(ds, summary: dict, outdir) -> dict:
+    """Figure set ``humid_friction``: friction values against RH with the dry reference, and the
+    friction curve or loops one per RH (:func:`tribobem.output.humid.humid_friction_figures`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The fields of the run (fields.nc); None: only what the summary alone gives.
+    summary : dict
+        The run summary (summary.json).
+    outdir : path-like
+        Folder of the PNG files.
+
+    Returns
+    -------
+    dict
+        Figure name -> Path of the PNG written; empty for a dry run.
+    """
+    return humid_friction_figures(ds, summary, outdir)
 
 
 def capillary_run_figures(ds, summary: dict, outdir) -> dict:
@@ -1578,6 +1740,7 @@ FIGURE_SETS = {
     "friction": friction_figures,
     "hysteresis": hysteresis_run_figures,
     "capillary": capillary_run_figures,
+    "humid_friction": humid_friction_run_figures,
     "maps": map_figures,
 }
 

@@ -1,6 +1,7 @@
-"""Plotting helpers shared by the figure modules (:mod:`.figures`, :mod:`.capillary`): a
-matplotlib Figure without pyplot state, the atomic PNG write, and the axes of a map in the
-grid's coordinates (m, shown in the unit the caller chose).
+"""Plotting helpers shared by the figure modules (:mod:`.figures`, :mod:`.capillary`,
+:mod:`.humid`): a matplotlib Figure without pyplot state, the atomic PNG write, the axes of a map
+in the grid's coordinates (m, shown in the unit the caller chose), and the summary readings the
+friction figures share (a finite number, mu, whether a run is a hysteresis run).
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ import numpy as np
 from ..units import format_quantity
 from .atomic import atomic_write_bytes
 
-__all__ = ["DPI", "COLORS", "CONTACT_COLORS", "new_figure", "save_png", "map_extent", "map_axes", "step_title"]
+__all__ = ["DPI", "COLORS", "CONTACT_COLORS", "new_figure", "save_png", "map_extent", "map_axes", "step_title",
+           "finite", "friction_coefficient", "is_hysteresis"]
 
 #: Resolution of the PNG figures (dots per inch).
 DPI = 110
@@ -140,3 +142,66 @@ def step_title(ds, step) -> str:
     label = str(ds["label"].values[step])
     f = float(ds["normal_force"].values[step])
     return f"{label}, F = {format_quantity(f, 'force', 3)}"
+
+
+def finite(v):
+    """``v`` as a finite float, else None.
+
+    Parameters
+    ----------
+    v : object
+        A summary value (a number, None, a string ...), in its own units.
+
+    Returns
+    -------
+    float or None
+        The value in the same units; None for a non-number or a non-finite value.
+    """
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return None
+    return f if np.isfinite(f) else None
+
+
+def friction_coefficient(summary: dict | None, ds=None):
+    """mu from the summary (run-level, else the scenario echo), else the fields' attribute.
+
+    Parameters
+    ----------
+    summary : dict or None
+        The run summary (summary.json).
+    ds : xarray.Dataset, optional
+        The fields (fields.nc), whose ``friction_coefficient`` attribute is the last resort.
+
+    Returns
+    -------
+    float or None
+        The friction coefficient (dimensionless), None when unknown or not positive.
+    """
+    s = summary or {}
+    mu = finite(s.get("friction_coefficient"))
+    if mu is None:
+        fr = (s.get("inputs") or {}).get("friction") or {}
+        mu = finite(fr.get("coefficient")) if isinstance(fr, dict) else None
+    if mu is None and ds is not None:
+        mu = finite(ds.attrs.get("friction_coefficient"))
+    return mu if mu is not None and mu > 0 else None
+
+
+def is_hysteresis(summary: dict | None) -> bool:
+    """True for a hysteresis run: ``kind`` says so, or the step rows carry a ``cycle``.
+
+    Parameters
+    ----------
+    summary : dict or None
+        The run summary (summary.json); None gives False.
+
+    Returns
+    -------
+    bool
+    """
+    s = summary or {}
+    if s.get("kind") == "hysteresis":
+        return True
+    return any(isinstance(r, dict) and "cycle" in r for r in s.get("steps") or [])

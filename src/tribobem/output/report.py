@@ -1,7 +1,8 @@
 """report.html: a self-contained page (figures embedded as base64 PNG) with the key scalars,
 the step table, the inputs, the versions and the convergence status; for hysteresis runs a
 "Friction hysteresis" section (loop, energy per cycle, lateral stiffness at Paper F's points,
-dissipation and stick/slip maps)."""
+dissipation and stick/slip maps); for humid friction runs a "Humid friction" section (one row per
+RH after the dry reference, the figures against RH and per RH)."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from ..units import format_quantity
 from .atomic import staged_source
 from .figures import is_hysteresis, mindlin_reference
 from .atomic import atomic_write_text
+from .humid import is_humid_friction, per_rh, rh_groups, rh_label, rh_summary, zero_load_row
 from .summary import jsonable
 
 __all__ = ["render_report", "write_report"]
@@ -56,6 +58,25 @@ _CAPTIONS = {
                  "carry dP_cap), dry cross-cuts (below S without a seed: no pressure) and free nodes."),
     "films": ("Adsorbed water film thickness of each body that carries one, levelled on its undeformed topography "
               "before contact, at the RH of the meniscus maps."),
+    "humid_friction_rh": ("Humid friction against RH (one ramp or loop per RH, in the order given, each "
+                          "warm-started from the previous RH's zero-load state). Partial slip: static friction "
+                          "force (gross-slip onset; grey squares: \u03bc F\u2080\u207a at the onset, the most the "
+                          "contact carries) and presliding displacement. Hysteresis: lateral stiffness K_L at Paper "
+                          "F's points A, B, C, dissipated energy (loop area) of the last cycle, and the static "
+                          "friction and sliding forces when reached. Dashed: the dry reference run (Dugdale "
+                          "adhesion alone if the scenario has it, no meniscus). Last panel: the capillary force of "
+                          "the state at F\u2093 = 0 (< 0: tensile)."),
+    "humid_friction_curve": ("Tangential force F\u2093 against the displacement \u03b4\u2093 of body 2, one curve per "
+                             "RH (colour: RH). Partial slip: stars mark the gross-slip onset; below, the stick "
+                             "ratio against F\u2093 / (\u03bc F\u2080\u207a) (dotted: each RH's onset). "
+                             "Hysteresis: the loops, cycle 0 (the initial loading) dashed; below, the stick ratio "
+                             "along each loop. The dry reference keeps no steps; its static friction force, when "
+                             "reached, is the grey dashed line."),
+    "stickslip_rh": ("Stick/slip maps, one per RH (at most four): the kept state of each ramp half-way to its last "
+                     "state that still sticks. Compressive contact that sticks (blue) or slips (red), "
+                     "tensile zone p < 0 where no shear acts (pale amber: here the meniscus under the Laplace "
+                     "pressure), no contact (grey); teal line: the meniscus edge (outer edge of the wetted region); "
+                     "arrows: tangential traction q on body 1, on a common scale across the maps."),
     "stickslip_loop": ("Stick/slip maps at Paper E's points (A: start; D, H, L ...: turning points; D', H' ...: "
                        "the step right after them): compressive contact that sticks (blue) or slips (red), no "
                        "contact (grey); arrows: tangential traction q on body 1, on a common scale."),
@@ -139,7 +160,8 @@ figure.wide{display:block;max-width:100%}figure.mid{max-width:700px}h3{font-size
 figcaption{font-size:.85em;color:#555}pre{background:#f7f7f7;padding:1em;overflow:auto;font-size:.8em;max-height:30em}
 .muted{color:#777;font-size:.85em}.scroll{overflow-x:auto;max-width:100%}.steps{font-size:.8em}\
 .steps td{white-space:nowrap;padding:2px 5px}.steps th{padding:2px 5px}
-table{max-width:100%}td.l{overflow-wrap:anywhere}.met{color:#1e7e34;font-weight:600}.unmet{color:#d93025;font-weight:600}
+table{max-width:100%}td.l{overflow-wrap:anywhere}tr.dry td{background:#f3f3f3;font-style:italic}
+table.humid td{white-space:nowrap}.met{color:#1e7e34;font-weight:600}.unmet{color:#d93025;font-weight:600}
 """
 
 
@@ -168,7 +190,7 @@ def _caption(name: str) -> str:
         return _STICKSLIP_CAPTION.format(k=name[len("stickslip_step"):])
     if name.startswith("stickslip_field"):
         return _STICKSLIP_CAPTION.format(k=f"{name[len('stickslip_field'):]} of fields.nc")
-    if name.startswith("stickslip_") and not name.startswith("stickslip_loop"):
+    if name.startswith("stickslip_") and name not in _CAPTIONS:
         # a state that is not a summary.json step (the refined gross-slip onset): by its label
         return _STICKSLIP_CAPTION.replace("step {k}", "the {k} state").format(k=name[len("stickslip_"):])
     return _CAPTIONS.get(name, name)
@@ -179,11 +201,11 @@ def _img(path: Path) -> str:
     return f"data:image/png;base64,{data}"
 
 
-def _figure_html(name: str, path, cls: str = "") -> str:
+def _figure_html(name: str, path, cls: str = "", caption: str | None = None) -> str:
     e = html.escape
     c = f" class='{cls}'" if cls else ""
-    return (f"<figure{c}><img alt='{e(name)}' src='{_img(path)}'><figcaption>{e(_caption(name))}</figcaption>"
-            "</figure>")
+    text = _caption(name) if caption is None else caption
+    return f"<figure{c}><img alt='{e(name)}' src='{_img(path)}'><figcaption>{e(text)}</figcaption></figure>"
 
 
 def _is_hysteresis_figure(name: str) -> bool:
@@ -214,14 +236,24 @@ def _num(v):
 
 def _friction_rows(s: dict) -> list:
     """(label, formatted value) of the run-level friction values the summary holds."""
-    return [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS if s.get(key) is not None]
+    # a humid run's per-RH lists are tabulated by the humid_friction section, not here
+    return [(label, _fmt(s[key], dim)) for key, label, dim in _FRICTION_SCALARS
+            if s.get(key) is not None and not isinstance(s[key], (list, tuple, dict))]
 
 
 def _hysteresis_section(s: dict, figures: dict) -> list:
     """The "Friction hysteresis" section: the run's friction scalars, the loop figure, the
-    energy per cycle, the lateral stiffness at Paper F's points, and the maps."""
+    energy per cycle, the lateral stiffness at Paper F's points, and the maps.  ``s`` may be one
+    RH of a humid run (:func:`~tribobem.output.humid.rh_summary`, a scalar ``rh``): the heading
+    and the map caption say so."""
     e = html.escape
-    parts = ["<h2>Friction hysteresis</h2>"]
+    rh = _num(s.get("rh"))
+    if rh is None:
+        parts = ["<h2>Friction hysteresis</h2>"]
+    else:
+        parts = [f"<h2>Friction hysteresis at {e(rh_label(rh))}</h2><p class='muted'>The loop of the last RH, "
+                 "whose per-cycle dissipation maps fields.nc keeps; every RH against the dry reference: "
+                 "section Humid friction.</p>"]
     mu = _num(s.get("friction_coefficient"))
     f0p = _num(s.get("repulsive_force"))
     mup = mu * f0p if mu and f0p else None
@@ -306,19 +338,21 @@ def _hysteresis_section(s: dict, figures: dict) -> list:
             parts.append(_figure_html(name, path, "wide"))
     if "stickslip_loop" in figures:
         parts.append("<h3>Stick and slip at Paper E's points</h3>")
-        parts.append(_figure_html("stickslip_loop", figures["stickslip_loop"], "wide"))
+        cap = None
+        if rh is not None:
+            cap = (_caption("stickslip_loop") + " Pale amber: the tensile zone, here the meniscus under the Laplace "
+                   "pressure; teal line: the meniscus edge (outer edge of the wetted region).")
+        parts.append(_figure_html("stickslip_loop", figures["stickslip_loop"], "wide", cap))
     return parts
 
 
 _CAPILLARY_FIGURES = ("capillary_forces", "pulloff_rh", "meniscus", "films")
 
 
-def _capillary_section(s: dict, hum: dict, figures: dict) -> list:
-    """The "Capillary adhesion" section: water, films and meniscus settings, the humid pull-off per
-    RH, and the capillary figures (force components, pull-off, meniscus and film maps)."""
-    e = html.escape
-    parts = ["<h2>Capillary adhesion</h2>"]
-    rows = [
+def _humidity_rows(hum: dict) -> list:
+    """(label, text) of the humidity inputs (``problem.humidity`` of summary.json): water, films,
+    Hamaker constants and meniscus settings."""
+    return [
         ("water", f"T = {hum.get('temperature', float('nan')):.4g} K, γ = "
                   f"{format_quantity(hum.get('surface_tension'), 'surface_tension', 4)}, V = "
                   f"{hum.get('molar_volume', float('nan')) * 1e6:.4g} cm³/mol"),
@@ -333,6 +367,14 @@ def _capillary_section(s: dict, hum: dict, figures: dict) -> list:
                      f"critical distance d_cr = {format_quantity(hum.get('critical_distance'), 'length', 3)}, "
                      f"contribution coefficient: {hum.get('contribution')}"),
     ]
+
+
+def _capillary_section(s: dict, hum: dict, figures: dict) -> list:
+    """The "Capillary adhesion" section: water, films and meniscus settings, the humid pull-off per
+    RH, and the capillary figures (force components, pull-off, meniscus and film maps)."""
+    e = html.escape
+    parts = ["<h2>Capillary adhesion</h2>"]
+    rows = _humidity_rows(hum)
     if isinstance(s.get("pull_off_force"), list):
         steps = s.get("steps") or []
         rows.append(("pull-off force per RH", "; ".join(
@@ -380,11 +422,166 @@ def _expected_section(s: dict) -> list:
     return parts
 
 
+_HUMID_FIGURES = ("humid_friction_rh", "humid_friction_curve", "stickslip_rh")
+_NOT_REACHED = "not reached"
+
+
+def _humid_cell(value, dim) -> str:
+    """A table cell of the humid friction table: ``dim`` "stiffness" in N/m units, "text" as
+    is, else :func:`_fmt`."""
+    if dim == "stiffness":
+        return _stiffness(value) if value is not None else "n/a"
+    if dim == "text":
+        return str(value)
+    return _fmt(value, dim)
+
+
+def _last_of(values):
+    """The last finite entry of a per-cycle list, or None."""
+    if isinstance(values, (list, tuple)):
+        return next((v for v in reversed(values) if _num(v) is not None), None)
+    return _num(values)
+
+
+def _k_at(table, point):
+    return next((t.get("stiffness") for t in table or [] if isinstance(t, dict) and t.get("point") == point), None)
+
+
+def _humid_table(s: dict) -> tuple[list, list]:
+    """(columns [(header, dimension)], rows [(is_dry, [values])]) of the humid friction table:
+    the dry reference first, then one row per RH in run order."""
+    hyst = is_hysteresis(s)
+    rhs = list(s.get("rh") or [])
+    dry = s.get("dry") or {}
+    groups = rh_groups(s)
+    aligned = len(groups) == len(rhs)
+    zero = [zero_load_row(g[2]) or {} if aligned else {} for g in groups] if aligned else [{}] * len(rhs)
+
+    def run_or_zero(key, row_key=None):
+        vals = per_rh(s, key)
+        return [v if v is not None else z.get(row_key or key) for v, z in zip(vals, zero)]
+
+    f0p = run_or_zero("repulsive_force")
+    cap = run_or_zero("capillary_force")
+    steps = []
+    for g in (groups if aligned else [None] * len(rhs)):
+        if g is None:
+            steps.append(None)
+            continue
+        bad = sum(1 for r in g[2] if not r.get("converged", True))
+        steps.append(f"{len(g[2])}" + (f" ({bad} not converged)" if bad else ""))
+    wet = [z.get("wetted_area") for z in zero]
+    islands = [z.get("island_count") for z in zero]
+    dash = "\u2014"  # not applicable to the dry reference: no water
+    if hyst:
+        cols = [("", "text"), ("F\u2080\u207a (F\u2093 = 0)", "force"), ("peak force F*", "force"),
+                ("static friction", "force"), ("sliding force", "force"),
+                ("dissipated energy (last cycle)", "energy"), ("K_L at A", "stiffness"), ("K_L at B", "stiffness"),
+                ("K_L at C", "stiffness"), ("F_cap (F\u2093 = 0)", "force"), ("A meniscus", "area"),
+                ("islands", None), ("steps", "text")]
+        tables = per_rh(s, "lateral_stiffness")
+        peak = per_rh(s, "peak_force")
+        sff, sld = per_rh(s, "static_friction_force"), per_rh(s, "sliding_force")
+        energy = per_rh(s, "dissipated_energy")
+        rows = [(True, ["dry", dry.get("repulsive_force"), dry.get("peak_force"),
+                        dry.get("static_friction_force") if dry.get("static_friction_force") is not None
+                        else _NOT_REACHED, dry.get("sliding_force"), _last_of(dry.get("dissipated_energy")),
+                        *(_k_at(dry.get("lateral_stiffness"), p) for p in "ABC"), dash, dash, dash, dash])]
+        for i, rh in enumerate(rhs):
+            rows.append((False, [rh_label(rh), f0p[i], peak[i], sff[i] if sff[i] is not None else _NOT_REACHED,
+                                 sld[i], _last_of(energy[i]), *(_k_at(tables[i], p) for p in "ABC"), cap[i], wet[i],
+                                 islands[i], steps[i]]))
+    else:
+        cols = [("", "text"), ("static friction F_s", "force"), ("F_s / (\u03bc F\u2080\u207a) at onset", "dimensionless"),
+                ("presliding displacement", "length"), ("F\u2080\u207a (F\u2093 = 0)", "force"),
+                ("F_cap (F\u2093 = 0)", "force"), ("A meniscus", "area"), ("islands", None),
+                ("Kelvin radius r_k", "length"), ("film e1", "length"), ("film e2", "length"),
+                ("stick ratio at F\u2093 = 0", "dimensionless"), ("steps", "text")]
+        sff = per_rh(s, "static_friction_force")
+        ratio, pre = per_rh(s, "static_friction_ratio"), per_rh(s, "presliding_displacement")
+        stick0 = run_or_zero("zero_force_stick_ratio", "stick_ratio")
+        rows = [(True, ["dry", dry.get("static_friction_force") if dry.get("static_friction_force")
+                        is not None else _NOT_REACHED, dry.get("static_friction_ratio"),
+                        dry.get("presliding_displacement"), dry.get("repulsive_force"), dash, dash, dash, dash, dash,
+                        dash, dry.get("zero_force_stick_ratio"), dash])]
+        for i, rh in enumerate(rhs):
+            z = zero[i]
+            rows.append((False, [rh_label(rh), sff[i] if sff[i] is not None else _NOT_REACHED, ratio[i], pre[i],
+                                 f0p[i], cap[i], wet[i], islands[i], z.get("kelvin_radius"), z.get("film_thickness_1"),
+                                 z.get("film_thickness_2"), stick0[i], steps[i]]))
+    return cols, rows
+
+
+def humid_friction_section(s: dict, figures: dict) -> tuple[list, dict]:
+    """Report section ``humid_friction`` (kinds partial_slip and hysteresis with ``[humidity]``):
+    the humidity inputs, one table row per RH after the dry reference (static friction,
+    presliding displacement or the loop's energy and lateral stiffness, F0+, the capillary force
+    and the meniscus of the zero-load state), and the humid figures.  Nothing for a dry run.
+
+    Parameters
+    ----------
+    s : dict
+        The run summary (summary.json, JSON-ready).
+    figures : dict
+        Figure name -> PNG path, the figures not yet placed.
+
+    Returns
+    -------
+    (list of str, dict)
+        The HTML parts and the figures left for the general list.
+    """
+    if not is_humid_friction(s):
+        return [], figures
+    e = html.escape
+    hyst = is_hysteresis(s)
+    rhs = list(s.get("rh") or [])
+    parts = ["<h2>Humid friction</h2>"]
+    what = "loop" if hyst else "ramp"
+    parts.append(f"<p>One {what} per RH, in the order given ({e(', '.join(rh_label(v) for v in rhs))}), each "
+                 f"warm-started from the previous RH's state at F\u2093 = 0, after a dry reference {what} (the "
+                 "scenario without [humidity]: Dugdale adhesion alone, if any). The menisci are recomputed at every "
+                 "step; shear acts only where the contact is compressive, never in a meniscus.</p>")
+    settings = []
+    mu = _num(s.get("friction_coefficient"))
+    if mu is not None:
+        settings.append(("friction coefficient \u03bc", f"{mu:.4g}"))
+    hum = (s.get("problem") or {}).get("humidity")
+    if hum:
+        settings += _humidity_rows(hum)
+    if settings:
+        parts.append("<table>")
+        parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in settings]
+        parts.append("</table>")
+    cols, rows = _humid_table(s)
+    # a column empty in every row (the sliding force of a force-controlled loop) says nothing
+    keep = [k for k in range(len(cols)) if k == 0 or any(vals[k] is not None for _, vals in rows)]
+    cols = [cols[k] for k in keep]
+    rows = [(d, [vals[k] for k in keep]) for d, vals in rows]
+    parts.append("<h3>Per RH against the dry reference</h3><div class='scroll'><table class='humid'><tr>"
+                 + "".join(f"<th>{e(h) if h else 'RH'}</th>" for h, _ in cols) + "</tr>")
+    for is_dry, values in rows:
+        cells = "".join(f"<td{' class=l' if k == 0 else ''}>{e(_humid_cell(v, d))}</td>"
+                        for k, (v, (_, d)) in enumerate(zip(values, cols)))
+        parts.append(f"<tr class='{'dry' if is_dry else 'rh'}'>{cells}</tr>")
+    parts.append("</table></div>")
+    parts.append("<p class='muted'>F\u2080\u207a: the repulsive (compressive) part of the normal force; the "
+                 "meniscus pulls the bodies together, so F\u2080\u207a = F + |F_adhesive| and \u03bc F\u2080\u207a, "
+                 "not \u03bc F, bounds the tangential force. F_cap, A meniscus, islands"
+                 + (", r_k and the films" if not hyst else "") + " are those of the state at F\u2093 = 0 (F_cap "
+                 "< 0: tensile). " + ("K_L at Paper F's points A, B, C (F\u2093 / (\u03bc F\u2080\u207a) = -0.5, 0, "
+                                      "0.5 on the last branch from -F* to +F*)." if hyst else "") + "</p>")
+    for name, cls in (("humid_friction_rh", "wide"), ("humid_friction_curve", "mid"), ("stickslip_rh", "wide")):
+        if name in figures:
+            parts.append(_figure_html(name, figures[name], cls))
+    return parts, {k: v for k, v in figures.items() if k not in _HUMID_FIGURES}
+
+
 def friction_section(s: dict, figures: dict) -> tuple[list, dict]:
     """Report section ``friction``: the run-level friction values of a partial-slip run (a
-    hysteresis run has its own section).  Returns (HTML parts, the figures left to place)."""
+    hysteresis run has its own section; a humid run's values, lists per RH, are section
+    ``humid_friction``'s).  Returns (HTML parts, the figures left to place)."""
     fric = _friction_rows(s)
-    if not fric or is_hysteresis(s):
+    if not fric or is_hysteresis(s) or is_humid_friction(s):
         return [], figures
     e = html.escape
     parts = ["<h2>Friction</h2><table>"]
@@ -398,6 +595,10 @@ def hysteresis_section(s: dict, figures: dict) -> tuple[list, dict]:
     C against Mindlin-Deresiewicz, with the loop figures.  Returns (HTML parts, the figures left)."""
     if not is_hysteresis(s):
         return [], figures
+    if is_humid_friction(s):
+        # the run-level values are lists per RH (section humid_friction): the detail of the last
+        # RH, the one whose per-cycle maps fields.nc keeps and the hysteresis figures show
+        s, _ = rh_summary(s, -1)
     parts = _hysteresis_section(s, figures)
     return parts, {k: v for k, v in figures.items() if not _is_hysteresis_figure(k)}
 
@@ -415,7 +616,8 @@ def capillary_section(s: dict, figures: dict) -> tuple[list, dict]:
 #: The report sections a run kind names (:attr:`tribobem.runs.kind.RunKind.report_sections`):
 #: name -> ``(summary, figures) -> (HTML parts, figures left for the general list)``, each
 #: showing only what applies.
-REPORT_SECTIONS = {"friction": friction_section, "hysteresis": hysteresis_section, "capillary": capillary_section}
+REPORT_SECTIONS = {"friction": friction_section, "hysteresis": hysteresis_section, "capillary": capillary_section,
+                   "humid_friction": humid_friction_section}
 
 
 def render_report(summary: dict, figures: dict | None = None, sections=None) -> str:

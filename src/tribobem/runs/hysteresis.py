@@ -291,7 +291,7 @@ _PATH = "its tangential loading is friction.path"
 KIND = RunKind(
     name="hysteresis", run=run, check=check,
     summary="friction hysteresis: tangential force or displacement cycles at one normal force",
-    figures=("hysteresis", "friction", "maps"), report_sections=("hysteresis",),
+    figures=("hysteresis", "friction", "humid_friction", "maps"), report_sections=("humid_friction", "hysteresis"),
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
              "presliding_displacement": "length", **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
     uses={"load": ("force",), "friction": ("coefficient", "direction", "slip", "path"),

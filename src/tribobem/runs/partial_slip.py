@@ -204,7 +204,7 @@ _APPROACH = ("approach-controlled normal loads are not supported for kind = 'par
 KIND = RunKind(
     name="partial_slip", run=run, check=check,
     summary="partial slip along a tangential ramp or a normal-load path, to the gross-slip onset",
-    figures=("load_curve", "friction", "maps"), report_sections=("friction",),
+    figures=("load_curve", "friction", "humid_friction", "maps"), report_sections=("friction", "humid_friction"),
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
              "presliding_displacement": "length", "max_tangential_force": "force",
              "zero_force_stick_ratio": "dimensionless", **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
