@@ -18,6 +18,9 @@ computations in :mod:`tribobem.validation.bisinusoidal` and
   resolution study; :mod:`.rough_slip`: a smooth ball on a rough flat (Paper D section 3.2).
 - :mod:`.paper_e`: adhesive friction hysteresis of dissimilar bodies (Paper E section 3.2).
 - :mod:`.paper_f`: polymer ball on a wafer, lateral stiffness at A, B, C (Paper F).
+- :mod:`.humid_friction`: a smooth ball on a rough SiO2 flat against RH (static friction,
+  pre-sliding, K_L at A/B/C, loop energy, F_cap beside the dry case); its results table is in
+  its docstring (``python -m studies.humid_friction --out DIR``).
 """
 
 from .bisinusoidal import (
