@@ -115,3 +115,49 @@ def test_counterface_film_moves_with_it_without_accumulating_error():
         path = path.moved((step, 0.0))
     np.testing.assert_allclose(path.film2, moved.film2, atol=1e-21)
     assert path.offset == quarter
+
+
+def test_humid_loop_on_a_window_equals_the_whole_grid():
+    """Without van der Waals terms the capillary model's stresses have a finite support (active
+    menisci, Dugdale zone): a loop solved on a window around them is the whole grid's loop."""
+    from tribobem.solvers.hysteresis import hysteresis_loop
+
+    pb = _problem(48)
+    model, _, _ = capillary_model(pb, 0.5, 1e-10)
+    kw = dict(normal_force=F, friction_coefficient=MU, amplitude=0.8, cycles=1, steps=8, interaction=model,
+              tol=1e-10, tangential_tol=1e-9, coupling_tol=1e-8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        win = hysteresis_loop(pb.operator, pb.gap, window=True, **kw)
+        full = hysteresis_loop(pb.operator, pb.gap, window=False, **kw)
+    assert "window" in win.steps[-1].normal.info  # it did run on a window
+    assert "window" not in full.steps[-1].normal.info
+    for a, b in zip(win.steps, full.steps):
+        assert a.converged and b.converged
+        assert abs(a.tangential.displacement_x - b.tangential.displacement_x) <= 1e-6 * abs(b.tangential.displacement_x) + 1e-15
+        assert abs(a.capillary.capillary_force - b.capillary.capillary_force) <= 1e-6 * abs(b.capillary.capillary_force)
+        assert a.capillary.islands.active.shape == pb.grid.shape  # the whole grid's islands on the result
+        np.testing.assert_array_equal(a.capillary.islands.active, b.capillary.islands.active)
+
+
+def test_a_window_that_cuts_the_meniscus_grows_to_hold_it():
+    from tribobem.solvers.window import Window, solve_coupled_windowed
+
+    pb = _problem(48)
+    model, _, _ = capillary_model(pb, 0.5, 1e-10)
+    n = pb.grid.nx
+    small = Window(n // 2 - 6, n // 2 + 6, n // 2 - 6, n // 2 + 6)  # the contact only, not the meniscus
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        res, used = solve_coupled_windowed(small, pb.operator, pb.gap, interaction=model, friction_coefficient=MU,
+                                           normal_force=F, tangential_force=(0.2 * MU * F, 0.0))
+        ref = solve_coupled(pb.operator, pb.gap, friction_coefficient=MU, normal_force=F, interaction=model,
+                            tangential_force=(0.2 * MU * F, 0.0))
+    assert used is None or used.shape[0] > small.shape[0]
+    men = np.asarray(ref.capillary.islands.active)
+    if used is not None:
+        inside = np.zeros(pb.grid.shape, bool)
+        inside[used.i0:used.i1, used.j0:used.j1] = True
+        assert not (men & ~inside).any()
+    assert abs(res.capillary.capillary_force / ref.capillary.capillary_force - 1) < 1e-6
+    assert abs(res.normal.repulsive_force / ref.normal.repulsive_force - 1) < 1e-6

@@ -196,6 +196,73 @@ class CapillaryModel:
                                    film2=self.film2, tol=tol, max_iterations=max_iterations, initial=initial,
                                    **self.options)
 
+    @property
+    def windowable(self) -> bool:
+        """Whether a step may be solved on a window of a free-boundary grid: without the van der
+        Waals terms every stress outside the contact has a finite support (the active menisci
+        and the Dugdale zone), which :meth:`stress_support` tells; with them the air-gap term
+        reaches every node."""
+        return not bool(self.options.get("van_der_waals", True))
+
+    def restricted(self, slicer, grid: Grid) -> "CapillaryModel":
+        """The model on a window of the grid (free boundary): films sliced by ``slicer``.
+
+        Parameters
+        ----------
+        slicer : callable
+            Maps a grid-shaped array to the window's part.
+        grid : Grid
+            The window's grid.
+
+        Returns
+        -------
+        CapillaryModel
+        """
+        return replace(self, film1=slicer(self.film1), film2=slicer(self.film2), grid=grid,
+                       options={**self.options, "periodic": False}, film2_origin=None)
+
+    def islands_of(self, gap, contact) -> Islands:
+        """The meniscus islands of a whole-grid state (gap in m, contact mask).
+
+        Parameters
+        ----------
+        gap : ndarray
+            Gap (m) on this model's grid.
+        contact : ndarray of bool
+            Contact nodes.
+
+        Returns
+        -------
+        Islands
+        """
+        o = self.options
+        return meniscus_islands(np.maximum(gap, 0.0), self.film1, self.film2, o["kelvin_radius"], contact,
+                                contact_angles=o.get("contact_angles", (0.0, 0.0)),
+                                critical_distance=o.get("critical_distance", CRITICAL_DISTANCE),
+                                periodic=bool(o.get("periodic", self.grid.periodic)),
+                                connectivity=o.get("connectivity", 4))
+
+    def stress_support(self, gap, contact) -> tuple[np.ndarray, Islands]:
+        """Nodes that carry a prescribed stress in a whole-grid state (active menisci, the
+        Dugdale zone 0 < g < h0), and the islands.
+
+        Parameters
+        ----------
+        gap : ndarray
+            Gap (m).
+        contact : ndarray of bool
+            Contact nodes.
+
+        Returns
+        -------
+        (ndarray of bool, Islands)
+        """
+        isl = self.islands_of(gap, contact)
+        support = np.asarray(isl.active, dtype=bool).copy()
+        if self.h0 > 0:
+            support |= (gap > 0) & (gap < self.h0)
+        return support, isl
+
     def moved(self, offset) -> "CapillaryModel":
         """The model with body 2 (the counterface) moved rigidly by ``offset`` (m) from its
         initial place: its film moves with it (gross sliding), body 1's stays.

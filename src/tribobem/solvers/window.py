@@ -14,9 +14,11 @@ convolution), and every node outside the window must be open (gap > 0) and beyon
 the stress law (no adhesive traction would act there).  When one is not, the window grows to
 cover it (with the margin) and the step is solved again (:func:`solve_coupled_windowed`), up to
 the whole grid; so the result is the whole grid's to the solvers' tolerances, never silently a
-truncated one.  Only interactions that depend on the gap alone and vanish beyond a finite range
-(none, Dugdale) allow a window; a long-range law (van der Waals) or a position-dependent one
-(capillary islands) is solved on the whole grid.
+truncated one.  Interactions that depend on the gap alone and vanish beyond a finite range
+(none, Dugdale) allow a window; so does the capillary model without its van der Waals terms
+(its stresses act on the active menisci and the Dugdale zone: the check after each step finds
+the islands of the whole grid's gap and grows the window when an active meniscus reaches past
+it).  A long-range law (van der Waals) is solved on the whole grid.
 """
 
 from __future__ import annotations
@@ -210,8 +212,21 @@ class Window:
         uzz = operator.backend.to_numpy(operator.normal.apply(xp.asarray(p)))
         gap_full = np.asarray(gap, dtype=float) + u[2] - nr.approach
         g_out = gap_full[outside]
-        law = interaction if interaction is not None else NoInteraction()
-        bad_out = (g_out <= 0.0) | (np.asarray(law.outside_stress(g_out, np)) != 0.0)
+        cap = res.capillary
+        if getattr(interaction, "self_consistent", False):
+            # A capillary model: a node outside violates when it closes, lies in the Dugdale
+            # range or belongs to an ACTIVE meniscus of the whole grid (an island the window cut
+            # would miss part of its stress).  The whole grid's islands are kept on the result.
+            g_chk = gap_full.copy()
+            g_chk[sl] = nr.gap
+            contact_full = pad(nr.contact, False, bool)
+            support, islands = interaction.stress_support(g_chk, contact_full)
+            bad_out = (g_out <= 0.0) | support[outside]
+            if cap is not None:
+                cap = dataclasses.replace(cap, islands=islands)
+        else:
+            law = interaction if interaction is not None else NoInteraction()
+            bad_out = (g_out <= 0.0) | (np.asarray(law.outside_stress(g_out, np)) != 0.0)
         violation = np.zeros(n_shape, dtype=bool)
         violation[outside] = bad_out
         gap_full[sl] = nr.gap
@@ -228,7 +243,9 @@ class Window:
             tr, grid=operator.grid, shear=q, slip=slip, relative_displacement=rel,
             contact=pad(tr.contact, False, bool), stick=pad(tr.stick, False, bool),
             info={**tr.info, "window": (self.i0, self.i1, self.j0, self.j1)})
-        out = dataclasses.replace(res, normal=normal, tangential=tang)
+        if cap is not None:
+            cap = dataclasses.replace(cap, normal=normal)
+        out = dataclasses.replace(res, normal=normal, tangential=tang, capillary=cap)
         out._contraction = getattr(res, "_contraction", None)
         return out, violation
 
@@ -275,6 +292,9 @@ def windowable(operator: ConvolutionOperator, interaction) -> bool:
     """
     if operator.periodic:
         return False
+    if getattr(interaction, "self_consistent", False):
+        # a capillary model: finite support without the long-range van der Waals terms
+        return bool(getattr(interaction, "windowable", False))
     return interaction is None or type(interaction) in (NoInteraction, DugdaleAdhesion)
 
 
@@ -349,8 +369,11 @@ def solve_coupled_windowed(window: Window | None, operator: ConvolutionOperator,
         extra_w = None
         if extrapolate is not None and extrapolate[0] is not None:
             extra_w = (window.slice_result(extrapolate[0], operator), extrapolate[1])
+        law_w = interaction
+        if getattr(interaction, "self_consistent", False):
+            law_w = interaction.restricted(window.slice, wop.grid)
         res_w = solver(wop, window.slice(gap), initial=init_w, extrapolate=extra_w,
-                              reference=window.slice(reference), interaction=interaction, **kw)
+                       reference=window.slice(reference), interaction=law_w, **kw)
         res, violation = window.embed(res_w, operator, gap, reference, interaction)
         if not violation.any():
             return res, window
