@@ -242,6 +242,35 @@ class CapillaryModel:
                                 periodic=bool(o.get("periodic", self.grid.periodic)),
                                 connectivity=o.get("connectivity", 4))
 
+    def law(self, active) -> CapillaryInteraction:
+        """The stress law of an island state on this model's grid, as :func:`solve_capillary`
+        builds it (the applied capillary pressure includes the contribution coefficient).
+
+        Parameters
+        ----------
+        active : ndarray of bool
+            Active meniscus nodes (grid-shaped).
+
+        Returns
+        -------
+        CapillaryInteraction
+        """
+        o = self.options
+        adhesion = o.get("adhesion")
+        if isinstance(adhesion, NoInteraction):
+            adhesion = None
+        vdw = None
+        if o.get("van_der_waals", True):
+            cutoff = o.get("cutoff")
+            if cutoff is None:
+                cutoff = adhesion.h0 if adhesion is not None else DEFAULT_CUTOFF
+            h1, h2 = _hamaker_pair(o.get("hamaker", (HAMAKER_SIO2, HAMAKER_SIO2)))
+            vdw = VanDerWaals(h1, h2, o.get("water_hamaker", HAMAKER_WATER), cutoff)
+        dp_eff = float(o.get("contribution", 1.0)) * float(o["capillary_pressure"])
+        return CapillaryInteraction(np.asarray(active, dtype=bool), np.broadcast_to(self.film1, self.grid.shape),
+                                    np.broadcast_to(self.film2, self.grid.shape), dp_eff, adhesion=adhesion,
+                                    van_der_waals=vdw, edge_width=o.get("edge_width", 0.2))
+
     def stress_support(self, gap, contact) -> tuple[np.ndarray, Islands]:
         """Nodes that carry a prescribed stress in a whole-grid state (active menisci, the
         Dugdale zone 0 < g < h0), and the islands.

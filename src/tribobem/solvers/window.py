@@ -44,6 +44,9 @@ MARGIN = 0.02
 MIN_MARGIN = 2
 #: Use a window only when its padded transform is below this fraction of the whole grid's.
 MAX_FRACTION = 0.7
+#: With a capillary model, solve on a window around the contact and the Dugdale range only, the
+#: menisci outside it entering as a prescribed traction (False: a window around every traction).
+EXTERIOR = True
 
 
 def _fast_even(m: int, n: int) -> int:
@@ -250,6 +253,130 @@ class Window:
         return out, violation
 
 
+def _embed_exterior(window: Window, res: CoupledResult, operator: ConvolutionOperator, gap, reference, model,
+                    p_ext):
+    """The whole-grid state of a step solved on ``window`` with the prescribed exterior traction
+    ``p_ext`` (the menisci outside it), and what the whole grid's islands say about it.
+
+    Returns ``(result, violation, settled)``: the embedded CoupledResult (pressure = the window's
+    plus ``p_ext``; displacements, gap, relative displacement from one whole-grid convolution;
+    the capillary state rebuilt on the whole grid's islands), the nodes outside the window that
+    close or enter the Dugdale range (the window must grow), and whether the whole grid's law
+    gives the exterior exactly the traction ``p_ext`` that was assumed (else the islands moved
+    and the step is solved again with the new exterior).  ``result`` is None when the window's
+    own islands disagree with the whole grid's inside it (an island connected only through the
+    exterior): the caller then solves without the split.
+    """
+    nr, tr = res.normal, res.tangential
+    n_shape = operator.grid.shape
+    sl = (slice(window.i0, window.i1), slice(window.j0, window.j1))
+    xp = operator.xp
+    be = operator.backend
+    outside = np.ones(n_shape, dtype=bool)
+    outside[sl] = False
+
+    def pad(a, fill=0.0, dtype=float):
+        a = np.asarray(be.to_numpy(a) if not isinstance(a, np.ndarray) else a)
+        out = np.full(a.shape[:-2] + n_shape, fill, dtype=dtype)
+        out[(...,) + sl] = a
+        return out
+
+    p = pad(nr.pressure) + p_ext
+    q = pad(tr.shear)
+    u = be.to_numpy(operator.apply(xp.asarray(np.stack([q[0], q[1], p]))))
+    uzz = be.to_numpy(operator.normal.apply(xp.asarray(p)))
+    gap_full = np.asarray(gap, dtype=float) + u[2] - nr.approach
+    gap_full[sl] = nr.gap  # the solver's own gap inside (exact zeros on its contact nodes)
+    contact = pad(nr.contact, False, bool)
+    support, islands = model.stress_support(gap_full, contact)
+    cap_w = res.capillary
+    if cap_w is not None and not np.array_equal(np.asarray(cap_w.islands.active, bool), islands.active[sl]):
+        return None, None, False
+    law = model.law(islands.active)
+    stress = np.asarray(law.outside_stress(np.maximum(gap_full, 0.0), np))
+    h0 = model.h0
+    reach = h0 * (1.0 + float(model.options.get("edge_width", 0.2))) if h0 > 0 else 0.0
+    violation = outside & ((gap_full <= 0.0) | (gap_full < reach))
+    settled = bool(np.array_equal(stress[outside], p_ext[outside]))
+    normal = dataclasses.replace(
+        nr, grid=operator.grid, pressure=p, gap=gap_full, displacement=uzz, contact=contact,
+        adhesive=pad(nr.adhesive, False, bool) | (outside & (p < 0)), force=float(nr.force) + float(p_ext.sum()) *
+        operator.grid.cell_area, info={**nr.info, "window": (window.i0, window.i1, window.j0, window.j1),
+                                       "exterior": "menisci outside the window as a prescribed traction"})
+    rel = np.stack([u[0] - tr.displacement_x, u[1] - tr.displacement_y])
+    slip = rel - np.asarray(reference) if reference is not None else rel.copy()
+    slip[(...,) + sl] = tr.slip
+    tang = dataclasses.replace(
+        tr, grid=operator.grid, shear=q, slip=slip, relative_displacement=rel, contact=pad(tr.contact, False, bool),
+        stick=pad(tr.stick, False, bool), mode="total" if reference is None else "incremental",
+        info={**tr.info, "window": (window.i0, window.i1, window.j0, window.j1)})
+    cap = None
+    if cap_w is not None:
+        split = law.split_force(p, gap_full, contact, operator.grid.cell_area)
+        cap = dataclasses.replace(
+            cap_w, normal=normal, islands=islands, capillary_force=split.capillary,
+            solid_solid_force=split.solid_solid, water_solid_force=split.water_solid, contact_force=split.contact,
+            repulsive_force=split.repulsive, total_force=split.total, wetted_area=split.wetted_area,
+            island_count=islands.active_count, interaction=law)
+    out = dataclasses.replace(res, normal=normal, tangential=tang, capillary=cap)
+    out._contraction = getattr(res, "_contraction", None)
+    return out, violation, settled
+
+
+#: Rounds of the exterior menisci per step (the exterior traction updated to the islands the
+#: step's solution gives, until they repeat).
+EXTERIOR_ROUNDS = 4
+
+
+def _solve_exterior(window, operator, gap, *, initial, extrapolate, reference, model, solver, kw):
+    """One step on ``window`` with the menisci outside it as a prescribed traction (see
+    :func:`solve_coupled_windowed`).  Returns ``(result, violation)``; ``result`` None when the
+    split does not apply (the caller falls back)."""
+    xp, be = operator.xp, operator.backend
+    n_shape = operator.grid.shape
+    outside = np.ones(n_shape, dtype=bool)
+    outside[window.i0:window.i1, window.j0:window.j1] = False
+    cell = operator.grid.cell_area
+    cap0 = initial.capillary
+    active = np.asarray(cap0.islands.active, dtype=bool)
+    g_prev = np.asarray(be.to_numpy(initial.normal.gap) if not isinstance(initial.normal.gap, np.ndarray)
+                        else initial.normal.gap, dtype=float)
+    if np.any(outside & np.asarray(initial.normal.contact, bool)):
+        return None, None
+    wop = window.operator(operator)
+    law_w = model.restricted(window.slice, wop.grid)
+    init_w = window.slice_result(initial, operator)
+    extra_w = None
+    if extrapolate is not None and extrapolate[0] is not None:
+        extra_w = (window.slice_result(extrapolate[0], operator), extrapolate[1])
+    zeros = np.zeros(n_shape)
+    res = None
+    for _ in range(EXTERIOR_ROUNDS):
+        stress = np.asarray(model.law(active).outside_stress(np.maximum(g_prev, 0.0), np))
+        p_ext = np.where(outside, stress, 0.0)
+        u_ext = be.to_numpy(operator.apply(xp.asarray(np.stack([zeros, zeros, p_ext]))))
+        kw_w = dict(kw)
+        if kw_w.get("normal_force") is not None:
+            kw_w["normal_force"] = float(kw_w["normal_force"]) - float(p_ext.sum()) * cell
+        # the exterior's tangential displacement (K_tz p_ext) enters the slip like a reference
+        ref_w = -window.slice(u_ext[:2])
+        if reference is not None:
+            ref_w = ref_w + window.slice(reference)
+        res_w = solver(wop, window.slice(np.asarray(gap, dtype=float) + u_ext[2]), initial=init_w,
+                       extrapolate=extra_w, reference=ref_w, interaction=law_w, **kw_w)
+        res, violation, settled = _embed_exterior(window, res_w, operator, gap, reference, model, p_ext)
+        if res is None or violation.any():
+            return res, violation
+        if settled:
+            return res, violation
+        active, g_prev = np.asarray(res.capillary.islands.active, bool), res.normal.gap
+        init_w = window.slice_result(res, operator)
+        extra_w = None
+    res = dataclasses.replace(res, converged=False, message=(
+        f"{res.message}; the menisci outside the solve window did not settle in {EXTERIOR_ROUNDS} rounds"))
+    return res, np.zeros(n_shape, dtype=bool)
+
+
 def _window_around(mask, shape, margin: float = MARGIN) -> Window | None:
     """The box around the True nodes of ``mask`` with the margin, its padded transform fast;
     None when it would not be clearly smaller than the whole grid's."""
@@ -321,7 +448,23 @@ def auto_window(res: CoupledResult | NormalResult, operator: ConvolutionOperator
     if not windowable(operator, interaction):
         return None
     nr = res.normal if isinstance(res, CoupledResult) else res
+    if getattr(interaction, "self_consistent", False) and EXTERIOR and isinstance(res, CoupledResult) \
+            and res.capillary is not None:
+        # the unknown tractions only: the contact and the Dugdale range; the menisci beyond are a
+        # prescribed traction (solve_coupled_windowed)
+        return _window_around(_unknown_support(nr, interaction), operator.grid.shape)
     return _window_around((nr.pressure != 0) | nr.contact | nr.adhesive, operator.grid.shape)
+
+
+def _unknown_support(nr, model):
+    """Nodes whose traction the step must solve for with a capillary model: the contact and the
+    Dugdale range (with its edge ramp)."""
+    gap = np.asarray(nr.gap, dtype=float)
+    mask = np.asarray(nr.contact, dtype=bool).copy()
+    h0 = model.h0
+    if h0 > 0:
+        mask |= (gap > 0) & (gap < h0 * (1.0 + float(model.options.get("edge_width", 0.2))))
+    return mask
 
 
 def solve_coupled_windowed(window: Window | None, operator: ConvolutionOperator, gap, *, initial=None,
@@ -363,6 +506,20 @@ def solve_coupled_windowed(window: Window | None, operator: ConvolutionOperator,
     """
     solver = solve_coupled if solver is None else solver
     full_shape = operator.grid.shape
+    exterior = (EXTERIOR and getattr(interaction, "self_consistent", False) and initial is not None
+                and getattr(initial, "capillary", None) is not None)
+    while window is not None and exterior:
+        res, violation = _solve_exterior(window, operator, gap, initial=initial, extrapolate=extrapolate,
+                                         reference=reference, model=interaction, solver=solver, kw=kw)
+        if res is None:
+            break  # the split does not apply: the window around every traction below
+        if not violation.any():
+            return res, window
+        region = np.zeros(full_shape, dtype=bool)
+        region[window.i0:window.i1, window.j0:window.j1] = True
+        window = _window_around(region | violation | _unknown_support(res.normal, interaction), full_shape)
+    if exterior and initial is not None:
+        window = _window_around((initial.normal.pressure != 0) | initial.normal.contact, full_shape)
     while window is not None:
         wop = window.operator(operator)
         init_w = window.slice_result(initial, operator) if initial is not None else None
