@@ -254,9 +254,10 @@ class Window:
 
 
 def _embed_exterior(window: Window, res: CoupledResult, operator: ConvolutionOperator, gap, reference, model,
-                    p_ext):
+                    p_ext, u_ext):
     """The whole-grid state of a step solved on ``window`` with the prescribed exterior traction
-    ``p_ext`` (the menisci outside it), and what the whole grid's islands say about it.
+    ``p_ext`` (the menisci outside it; ``u_ext`` its three displacement components), and what the
+    whole grid's islands say about it.
 
     Returns ``(result, violation, settled)``: the embedded CoupledResult (pressure = the window's
     plus ``p_ext``; displacements, gap, relative displacement from one whole-grid convolution;
@@ -281,10 +282,12 @@ def _embed_exterior(window: Window, res: CoupledResult, operator: ConvolutionOpe
         out[(...,) + sl] = a
         return out
 
-    p = pad(nr.pressure) + p_ext
+    p_w = pad(nr.pressure)
+    p = p_w + p_ext
     q = pad(tr.shear)
-    u = be.to_numpy(operator.apply(xp.asarray(np.stack([q[0], q[1], p]))))
-    uzz = be.to_numpy(operator.normal.apply(xp.asarray(p)))
+    # linearity: the exterior's displacements (u_ext, cached per exterior) plus the window's
+    u = be.to_numpy(operator.apply(xp.asarray(np.stack([q[0], q[1], p_w])))) + u_ext
+    uzz = be.to_numpy(operator.normal.apply(xp.asarray(p_w))) + u_ext[2]
     gap_full = np.asarray(gap, dtype=float) + u[2] - nr.approach
     gap_full[sl] = nr.gap  # the solver's own gap inside (exact zeros on its contact nodes)
     contact = pad(nr.contact, False, bool)
@@ -328,11 +331,29 @@ def _embed_exterior(window: Window, res: CoupledResult, operator: ConvolutionOpe
 EXTERIOR_ROUNDS = 4
 
 
+def _exterior_displacement(operator: ConvolutionOperator, window: Window, p_ext) -> np.ndarray:
+    """(u_x, u_y, u_z) of the exterior traction ``p_ext`` on the whole grid (m), cached on the
+    operator per window and traction: a hysteresis step usually keeps the last step's menisci,
+    so one whole-grid 3x3 convolution serves many steps."""
+    cache = operator.__dict__.setdefault("_exterior_displacements", {})
+    key = (window.i0, window.i1, window.j0, window.j1, hash(p_ext.tobytes()))
+    hit = cache.get(key)
+    if hit is not None and np.array_equal(hit[0], p_ext):
+        return hit[1]
+    be = operator.backend
+    zeros = np.zeros(p_ext.shape)
+    u = be.to_numpy(operator.apply(operator.xp.asarray(np.stack([zeros, zeros, p_ext]))))
+    if len(cache) >= 4:
+        cache.pop(next(iter(cache)))
+    cache[key] = (p_ext.copy(), u)
+    return u
+
+
 def _solve_exterior(window, operator, gap, *, initial, extrapolate, reference, model, solver, kw):
     """One step on ``window`` with the menisci outside it as a prescribed traction (see
     :func:`solve_coupled_windowed`).  Returns ``(result, violation)``; ``result`` None when the
     split does not apply (the caller falls back)."""
-    xp, be = operator.xp, operator.backend
+    be = operator.backend
     n_shape = operator.grid.shape
     outside = np.ones(n_shape, dtype=bool)
     outside[window.i0:window.i1, window.j0:window.j1] = False
@@ -343,18 +364,25 @@ def _solve_exterior(window, operator, gap, *, initial, extrapolate, reference, m
                         else initial.normal.gap, dtype=float)
     if np.any(outside & np.asarray(initial.normal.contact, bool)):
         return None, None
+    if extrapolate is not None and extrapolate[0] is not None:
+        # the menisci of the gap extrapolated along the path (the last step's would miss the
+        # island edges that move with the load, and cost a second round)
+        older, w = extrapolate
+        g_old = np.asarray(be.to_numpy(older.normal.gap) if not isinstance(older.normal.gap, np.ndarray)
+                           else older.normal.gap, dtype=float)
+        g_prev = g_prev + float(w) * (g_prev - g_old)
+        active = np.asarray(model.islands_of(g_prev, np.asarray(initial.normal.contact, bool)).active, dtype=bool)
     wop = window.operator(operator)
     law_w = model.restricted(window.slice, wop.grid)
     init_w = window.slice_result(initial, operator)
     extra_w = None
     if extrapolate is not None and extrapolate[0] is not None:
         extra_w = (window.slice_result(extrapolate[0], operator), extrapolate[1])
-    zeros = np.zeros(n_shape)
     res = None
     for _ in range(EXTERIOR_ROUNDS):
         stress = np.asarray(model.law(active).outside_stress(np.maximum(g_prev, 0.0), np))
         p_ext = np.where(outside, stress, 0.0)
-        u_ext = be.to_numpy(operator.apply(xp.asarray(np.stack([zeros, zeros, p_ext]))))
+        u_ext = _exterior_displacement(operator, window, p_ext)
         kw_w = dict(kw)
         if kw_w.get("normal_force") is not None:
             kw_w["normal_force"] = float(kw_w["normal_force"]) - float(p_ext.sum()) * cell
@@ -364,7 +392,7 @@ def _solve_exterior(window, operator, gap, *, initial, extrapolate, reference, m
             ref_w = ref_w + window.slice(reference)
         res_w = solver(wop, window.slice(np.asarray(gap, dtype=float) + u_ext[2]), initial=init_w,
                        extrapolate=extra_w, reference=ref_w, interaction=law_w, **kw_w)
-        res, violation, settled = _embed_exterior(window, res_w, operator, gap, reference, model, p_ext)
+        res, violation, settled = _embed_exterior(window, res_w, operator, gap, reference, model, p_ext, u_ext)
         if res is None or violation.any():
             return res, violation
         if settled:
