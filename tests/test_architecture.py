@@ -29,7 +29,8 @@ LAYERS = {
     "runs": 7,
     "scenario": 8,
     "sweep": 9, "validation": 9,
-    "cli": 10, "<root>": 10,
+    "design": 10,
+    "cli": 11, "<root>": 11,
 }
 
 

@@ -1,6 +1,6 @@
 """The ``tribobem`` command line (Typer).
 
-Commands: ``demo``, ``run SCENARIO.toml``, ``sweep SWEEP.toml``, ``validate``, ``info TOPOGRAPHY``,
+Commands: ``demo``, ``run SCENARIO.toml``, ``sweep SWEEP.toml``, ``design DESIGN.toml``, ``validate``, ``info TOPOGRAPHY``,
 ``plot RESULT``, ``compare-loop RESULT LOOP.csv``; ``tribobem --version``.
 Errors in the user's input (bad scenario keys, units, ranges, unreadable files, grids too
 large for memory) print one red line and exit with code 2, never a traceback.  Help is plain
@@ -407,6 +407,34 @@ def sweep(
                                  workers=workers, quiet=quiet, json_output=as_json)
         except KeyboardInterrupt:  # before the sweep started, or a second Ctrl-C
             _stderr().print("[bold yellow]interrupted:[/bold yellow] tribobem sweep stopped by Ctrl-C; the points "
+                            "finished so far are saved; run the same command again to compute the rest")
+            code = EXIT_INTERRUPTED
+    if code:
+        raise typer.Exit(code)
+
+
+# ----------------------------------------------------------------------------- design
+@app.command()
+def design(
+    design_file: Path = typer.Argument(..., help="Design file (TOML): a base scenario, design parameters, chain "
+                                                 "options and targets."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Results folder (default: results/<stem>)."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler ADDRESS, 'local' or 'synchronous'."),
+    workers: Optional[int] = typer.Option(None, "--workers", help="Workers of the local cluster."),
+    quiet: bool = typer.Option(False, "--quiet/--no-quiet", "-q", help="No progress bar or messages."),
+    as_json: bool = typer.Option(False, "--json/--no-json", help="Print the design result and ranking as JSON."),
+):
+    """Rank design variants: normal, pull-off, tangential ramp (and hysteresis) per point; table and report."""
+    with _user_errors():
+        from .design import design_command
+
+        if not design_file.exists():
+            raise FileNotFoundError(f"design file {design_file} not found")
+        try:  # a Ctrl-C while the points run: design_command says what is saved and returns 130
+            code = design_command(str(design_file), out=str(out) if out else None, scheduler=scheduler,
+                                  workers=workers, quiet=quiet, json_output=as_json)
+        except KeyboardInterrupt:  # before the sweep started, or a second Ctrl-C
+            _stderr().print("[bold yellow]interrupted:[/bold yellow] tribobem design stopped by Ctrl-C; the points "
                             "finished so far are saved; run the same command again to compute the rest")
             code = EXIT_INTERRUPTED
     if code:

@@ -1,0 +1,215 @@
+"""Design studies (tribobem.design, ``tribobem design``): the chain per point on the sweep
+machinery, the table and report, the ranking, resuming, failing points."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from tribobem.design import (ChainOptions, DesignSpec, Target, pareto_front, point_scenario, rank_rows, run_design,
+                             stage_scenario)
+from tribobem.errors import InputError
+from tribobem.runs import KINDS
+
+BASE = {
+    "name": "tiny design",
+    "grid": {"n": 16, "size": "1.6 um"},
+    "body1": {"name": "flat", "E": "70 GPa", "nu": 0.3},
+    "body2": {"name": "ball", "rigid": True, "shape": {"kind": "sphere", "radius": "10 um"}},
+    "adhesion": {"work_of_adhesion": "50 mJ/m^2", "z0": "1 nm"},
+    "load": {"force": "10 uN", "steps": 8, "refine": 2},
+    "friction": {"coefficient": 0.3},
+    "solver": {"tolerance": 1e-8},
+}
+
+
+def _design(radii, targets=None, chain=None):
+    data = {"name": "tiny", "base": BASE, "parameters": {"body2.shape.radius": radii},
+            "chain": chain if chain is not None else {"hysteresis": {"amplitude": 0.9, "steps": 8}},
+            "targets": targets if targets is not None else {
+                "static_friction_force": {"min": "3.2 uN"}, "pull_off_force": {"max": "0.5 uN"},
+                "hardness": "5 GPa"}}
+    return DesignSpec.from_dict(data)
+
+
+@pytest.fixture(scope="module")
+def tiny(tmp_path_factory):
+    """A 2-point design plus one invalid point, run once (synchronously)."""
+    out = tmp_path_factory.mktemp("design")
+    design = _design(["10 um", "20 um", "-1 um"])
+    res = run_design(design, out, scheduler="synchronous", progress=False, quiet=True)
+    return design, out, res
+
+
+def test_stage_scenarios_are_accepted_by_each_kind():
+    sc, notes = point_scenario({**BASE, "body1": {**BASE["body1"], "roughness": {
+        "kind": "gaussian", "rms": "1 nm", "correlation_length": "0.2 um"}}}, {})
+    assert sc["body1"]["roughness"]["seed"] == 0 and notes  # one surface for every stage
+    for kind in ("normal", "pulloff", "partial_slip", "hysteresis"):
+        st = stage_scenario(sc, kind)
+        reads = KINDS[kind].reads()
+        assert st["kind"] == kind
+        assert set(st) - {"kind", "name"} <= set(reads)
+    assert "friction" not in stage_scenario(sc, "normal")
+    po = stage_scenario(sc, "pulloff", load={"preload": "1 uN"})["load"]
+    assert "force" not in po and po["preload"] == "1 uN" and po["steps"] == 8
+    dry, _ = point_scenario({**BASE, "humidity": {"rh": 0.5}, "body1": {**BASE["body1"], "film": {"isotherm": "Si"}}},
+                            {"humidity.rh": "dry"})
+    assert "humidity" not in dry and "film" not in dry["body1"]
+    with pytest.raises(InputError, match="one RH"):
+        point_scenario({**BASE, "humidity": {"rh": [0.3, 0.5]}}, {})
+
+
+def test_design_file_checks():
+    with pytest.raises(InputError, match="targets.friction"):
+        _design(["10 um"], targets={"friction": {"min": 1}})
+    with pytest.raises(InputError, match="force"):
+        _design(["10 um"], targets={"static_friction_force": {"min": "3 nm"}})
+    with pytest.raises(InputError, match="chain.bogus"):
+        _design(["10 um"], chain={"bogus": 1})
+    with pytest.raises(InputError, match="design.parameters"):
+        DesignSpec.from_dict({"base": BASE})
+    with pytest.raises(InputError, match="design.extra"):
+        DesignSpec.from_dict({"base": BASE, "parameters": {"grid.n": [16]}, "extra": 1})
+    ch = ChainOptions.from_dict({"tangential_forces": {"start": 0, "stop": "2 uN", "num": 3}, "hysteresis": False})
+    assert ch.tangential_forces == pytest.approx([0, 1e-6, 2e-6]) and ch.hysteresis is None
+
+
+def test_targets_hash_and_pareto():
+    t = Target("pull_off_force", None, 1e-6)
+    assert t.evaluate(-0.5e-6)[0] and not t.evaluate(-2e-6)[0]  # on the magnitude
+    assert t.evaluate(-2e-6)[1] == pytest.approx(1.0)
+    assert not Target("contact_area", 1.0, None).evaluate(math.nan)[0]
+    a, b = _design(["10 um"]), _design(["10 um"], targets={})
+    assert a.sweep().tasks() == b.sweep().tasks()  # targets never recompute a point
+    c = _design(["10 um"], chain={"hysteresis": False})
+    assert a.sweep().tasks()[0][0] != c.sweep().tasks()[0][0]  # chain options do
+    front = pareto_front([1, 2, 3, 2], [3, 2, 1, 1], "max", "max")
+    assert front.tolist() == [True, True, True, False]
+    assert pareto_front([1, 2], [1, 2], "min", "min").tolist() == [True, False]
+
+
+def test_tiny_design_runs_writes_and_ranks(tiny):
+    design, out, res = tiny
+    assert res.sweep.n_points == 3 and res.sweep.n_ok == 2 and res.sweep.n_failed == 1
+    assert res.exit_code == 1
+    for name in ("design.nc", "design.csv", "design_report.html"):
+        assert (out / name).is_file()
+    ok = [r for r in res.rows if r["status"] == "ok"]
+    assert len(ok) == 2
+    for r in ok:
+        assert 0 < r["static_friction_force"] < 1.2 * 0.3 * 1.5e-5
+        assert r["pull_off_force"] < 0
+        assert r["contact_area"] > 0 and r["max_pressure"] > 0 and r["peak_pressure"] >= r["max_pressure"]
+        assert all(r[f"lateral_stiffness_{p}"] > 0 for p in "ABC")
+        assert r["exceeds_hardness"] is False
+        assert r["warnings"] and all(isinstance(w, str) for w in r["warnings"])  # 16^2: grid warnings
+        assert set(r["stages"]) == {"normal", "pulloff", "ramp", "hysteresis"}
+    # ranking: the failed point last, the computed ones by targets met then distance
+    ranks = {r["point"]["body2.shape.radius"]: r["rank"] for r in res.rows}
+    assert ranks["-1 um"] == 3 and sorted(ranks.values()) == [1, 2, 3]
+    best = res.ranking[0]
+    assert best["targets_met"] >= res.ranking[1]["targets_met"]
+    # the table files
+    import xarray as xr
+
+    with xr.open_dataset(out / "design.nc") as ds:
+        assert ds.sizes["point"] == 3
+        assert list(ds["body2.shape.radius"].values) == pytest.approx([1e-5, 2e-5, -1e-6])
+        assert set(ds["status"].values) == {"ok", "failed"}
+        assert int(ds["rank"].values[2]) == 3
+        assert "exceeds_hardness" in ds and "warnings" in ds
+    csv_text = (out / "design.csv").read_text()
+    assert csv_text.splitlines()[0].startswith("rank,hash,status,body2.shape.radius,static_friction_force")
+    html = (out / "design_report.html").read_text()
+    assert "Pareto" in html and html.count("data:image/png;base64,") == 2
+    assert "must be &gt; 0" in html or "must be > 0" in html  # the failed point's message
+    assert "cohesive_zone" in html  # the warnings of every point
+
+
+def test_failing_point_is_recorded_and_the_sweep_goes_on(tiny):
+    design, out, res = tiny
+    bad = next(r for r in res.rows if r["point"]["body2.shape.radius"] == "-1 um")
+    assert bad["status"] == "failed"
+    assert "stage normal failed" in bad["message"] and "body2.shape.radius" in bad["message"]
+    assert bad["stages"]["pulloff"]["status"] == "skipped"
+    rec = json.loads((out / "points" / f"{bad['hash']}.json").read_text())
+    assert rec["status"] == "failed" and "body2.shape.radius" in rec["error"]
+
+
+def test_resume_recomputes_only_missing_or_changed_points(tiny, monkeypatch):
+    design, out, res = tiny
+    import tribobem.design.chain as chain
+
+    calls = []
+    real = chain.run_chain
+
+    def counting(scenario, ch, base_dir=None):
+        calls.append(scenario["body2"]["shape"]["radius"])
+        return real(scenario, ch, base_dir)
+
+    monkeypatch.setattr(chain, "run_chain", counting)
+    again = run_design(design, out, scheduler="synchronous", progress=False, quiet=True)
+    assert calls == ["-1 um"]  # only the failed point is retried
+    assert again.sweep.n_done_before == 2
+    # a new point and a changed target: only the new point runs; the old ones are re-ranked
+    calls.clear()
+    more = _design(["10 um", "20 um", "-1 um", "5 um"], targets={"static_friction_force": {"min": "1 uN"}})
+    res2 = run_design(more, out, scheduler="synchronous", progress=False, quiet=True)
+    assert sorted(calls) == ["-1 um", "5 um"]
+    assert res2.sweep.n_ok == 3
+    assert all(r["n_targets"] == 1 for r in res2.rows)
+    old = {r["hash"]: r["static_friction_force"] for r in res.rows if r["status"] == "ok"}
+    for r in res2.rows:
+        if r["hash"] in old:
+            assert r["static_friction_force"] == old[r["hash"]]
+
+
+def test_rank_rows_orders_by_targets_then_distance():
+    rows = [{"index": i, "status": s, "static_friction_force": v} for i, (s, v) in
+            enumerate([("ok", 1.0), ("ok", 3.0), ("failed", math.nan), ("ok", 2.5)])]
+    rank_rows(rows, [Target("static_friction_force", 2.0, None)])
+    assert [r["rank"] for r in rows] == [3, 1, 4, 2]
+    assert rows[0]["distance"] == pytest.approx(0.5)
+
+
+def test_cli_design(tmp_path):
+    from typer.testing import CliRunner
+
+    from tribobem.cli import app
+
+    f = tmp_path / "d.toml"
+    f.write_text("""
+[base]
+kind = "normal"
+[base.grid]
+n = 16
+size = "1.6 um"
+[base.body1]
+E = "70 GPa"
+nu = 0.3
+[base.body2]
+rigid = true
+shape = { kind = "sphere", radius = "10 um" }
+[base.load]
+force = "10 uN"
+[base.friction]
+coefficient = 0.3
+[parameters]
+"load.force" = ["5 uN"]
+[chain]
+hysteresis = false
+[targets]
+static_friction_force = { min = "1 uN" }
+""")
+    r = CliRunner().invoke(app, ["design", str(f), "-o", str(tmp_path / "out"), "--scheduler", "synchronous", "--json"])
+    assert r.exit_code == 0, r.output
+    d = json.loads(r.stdout)
+    assert d["n_ok"] == 1 and d["ranking"][0]["targets_met"] == 1
+    assert 0.85 * 0.3 * 5e-6 < d["ranking"][0]["static_friction_force"] <= 1.001 * 0.3 * 5e-6  # coupling, 16^2
+    assert d["ranking"][0]["pull_off_force"] == 0.0  # no adhesion, no humidity: the pull-off stage is skipped
+    assert (tmp_path / "out" / "design_report.html").is_file()
+    r = CliRunner().invoke(app, ["design", str(tmp_path / "missing.toml")])
+    assert r.exit_code == 2
