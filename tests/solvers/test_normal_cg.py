@@ -280,3 +280,29 @@ def test_solve_normal_method_selects_normcg():
     assert np.array_equal(a.contact, pk.contact)
     with pytest.raises(InputError, match="method"):
         solve_normal(op, h, force=2e-6, method="newton")
+
+
+@pytest.mark.parametrize("approach", [0.0, -0.05e-9, -0.2e-9])
+def test_adhesive_pull_from_no_contact_closes_nodes(approach):
+    """Displacement control at or beyond the first touch, cold start: no node is in contact
+    until the Dugdale load pulls the surface up.  NormCG stopped at once there (no contact
+    node: "nothing to solve"), leaving overlapping nodes outside the contact and a force 64 %
+    off; the nodes the adhesive load closes must enter.  Reference: Polonsky-Keer, whose
+    equilibrium is unique here (a few contact nodes, the zone set by the gap)."""
+    from tribobem.grid import Grid
+    from tribobem.interactions.dugdale import DugdaleAdhesion
+    from tribobem.scenario import parse_scenario
+    from tribobem.scenario.build import build_problem
+
+    pb = build_problem(parse_scenario({
+        "kind": "normal", "grid": {"n": 128, "size": "1 um"}, "body1": {"E": "100 GPa", "nu": 0.3},
+        "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "1 um"}}, "load": {"force": "0.1 uN"},
+        "adhesion": {"work_of_adhesion": "50 mJ/m^2", "z0": "0.3 nm"}}))
+    assert isinstance(pb.interaction, DugdaleAdhesion) and isinstance(pb.grid, Grid)
+    pk = solve_normal(pb.operator, pb.gap, approach=approach, interaction=pb.interaction, tol=1e-10)
+    cg = solve_normal_cg(pb.operator, pb.gap, approach=approach, interaction=pb.interaction, tol=1e-10)
+    assert cg.converged and pk.converged
+    assert np.array_equal(cg.contact, pk.contact) and np.array_equal(cg.adhesive, pk.adhesive)
+    assert abs(cg.force - pk.force) < 1e-9 * abs(pk.force)
+    g = pb.gap + cg.displacement - cg.approach
+    assert g[~cg.contact].min() > -1e-9 * pb.interaction.h0  # no overlap left outside the contact

@@ -311,6 +311,12 @@ class _NormCG(IterativeSolver):
                 if self.force_control and len(idx):
                     self.delta = float(g[idx].mean())
                     g -= self.delta
+                # The new outside load may close nodes (the adhesive pull): they enter too;
+                # without this a state with no contact node stopped at once with overlaps.
+                overlap = (g < 0) & ~self.cm
+                if bool(overlap.any()):
+                    self.cm |= overlap
+                    self.idx = idx = xp.flatnonzero(self.cm)
         self.g = g
         self.r = g[idx]
         n_c = len(idx)
