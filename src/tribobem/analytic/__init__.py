@@ -12,6 +12,8 @@ rough     Greenwood-Williamson and Persson theories (thesis 2.1.1-2.1.2).
 mindlin   Cattaneo-Mindlin, Mindlin-Deresiewicz loops (SPEC 7, corrected Eq. 2.27c) and the
           Spence (1975) stick ratio of normal loading with friction (dissimilar bodies).
 capillary Sphere-flat capillary force with films (thesis A.27-A.29) and the island rule's value.
+punch     Rounded and sharp flat punches (burls; Sneddon 1965), Kendall's flat-punch pull-off and
+          the full-stick tangential stiffness 8 a/k.
 
 Conventions: SI units, E* the composite modulus, forces positive when compressive, pull-off
 forces NEGATIVE (``*_pull_off_magnitude`` helpers give |F|), approach positive when the bodies
@@ -42,6 +44,11 @@ from .periodic import (
     bisinusoidal_curvature_radius, bisinusoidal_full_contact_pressure, bisinusoidal_pull_off_fit,
     bisinusoidal_pull_off_fit_magnitude, westergaard, westergaard_contact_fraction,
     westergaard_pressure,
+)
+from .punch import (
+    FlatPunchSolution, RoundedPunchSolution, bonded_punch_stiffness, flat_punch, flat_punch_pressure,
+    full_stick_stiffness, kendall_pull_off, kendall_pull_off_magnitude, rounded_punch, rounded_punch_approach,
+    rounded_punch_force,
 )
 from .rough import (
     GreenwoodWilliamsonResult, greenwood_williamson, greenwood_williamson_F,
@@ -87,6 +94,10 @@ __all__ = [
     "mindlin_unloading_stiffness", "mindlin_reloading_stiffness", "mindlin_loop_energy",
     "MindlinLoop", "mindlin_deresiewicz_loop",
     "spence_beta_over_mu", "spence_stick_ratio", "spence_traction",
+    # punch
+    "RoundedPunchSolution", "rounded_punch", "rounded_punch_force", "rounded_punch_approach",
+    "FlatPunchSolution", "flat_punch", "flat_punch_pressure", "kendall_pull_off", "kendall_pull_off_magnitude",
+    "full_stick_stiffness", "bonded_punch_stiffness",
     # capillary
     "SphereFlatCapillary", "sphere_flat_capillary", "sphere_flat_island_force",
 ]

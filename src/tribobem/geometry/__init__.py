@@ -8,7 +8,8 @@ shape plus roughness.
 """
 
 from .rough import gaussian_surface, johnson_quantiles, persson_psd, scale_to_rms, self_affine_surface
-from .shapes import bisinusoidal, cylinder, flat, sphere, wavy_sphere
+from .shapes import bisinusoidal, burl, cylinder, flat, sphere, wavy_sphere
+from .textures import dimples, grooves, pillars, texture, waviness
 from .stats import (
     acf,
     correlation_length,
@@ -37,6 +38,12 @@ __all__ = [
     "cylinder",
     "wavy_sphere",
     "bisinusoidal",
+    "burl",
+    "texture",
+    "dimples",
+    "pillars",
+    "grooves",
+    "waviness",
     "gaussian_surface",
     "self_affine_surface",
     "scale_to_rms",

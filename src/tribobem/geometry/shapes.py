@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import InputError
 from ..grid import Grid
 
-__all__ = ["flat", "sphere", "cylinder", "wavy_sphere", "bisinusoidal"]
+__all__ = ["flat", "sphere", "cylinder", "wavy_sphere", "bisinusoidal", "burl"]
 
 
 def _positive(value, field: str, unit: str = "m") -> float:
@@ -206,3 +206,47 @@ def bisinusoidal(grid: Grid, amplitude: float, wavelength_x: float, wavelength_y
     wx = _positive(wavelength_x, "shape.wavelength_x")
     wy = _positive(wavelength_y, "shape.wavelength_y")
     return S * np.cos(2 * np.pi * grid.x / wx)[:, None] * np.cos(2 * np.pi * grid.y / wy)[None, :]
+
+
+def burl(grid: Grid, radius: float, edge_radius: float, crown: float | None = None,
+         center=(0.0, 0.0)) -> np.ndarray:
+    """A burl: a flat (or crowned) circular top whose edge rounds off (the rounded flat punch).
+
+    ``h(r) = max(r - b, 0)^2 / (2 R) + r^2 / (2 R_c)``: a flat top of radius ``b`` whose edge
+    falls away as a paraboloid of radius ``R`` beyond ``r = b`` (slope and height continuous at
+    ``b``), and an optional spherical crown of radius ``R_c`` over the whole burl.
+
+    Parameters
+    ----------
+    grid : Grid
+        Grid of the result.
+    radius : float
+        Radius ``b`` of the flat top (m), > 0.
+    edge_radius : float
+        Radius ``R`` of the rounded edge (m), > 0; ``R << b`` approaches the sharp flat punch
+        (its reference, :func:`tribobem.analytic.punch.flat_punch`, needs the rounding to rise
+        above the approach within a cell).
+    crown : float, optional
+        Radius ``R_c`` of the spherical crown (m), > 0; None: a flat top.
+    center : (float, float)
+        Position of the burl's axis (m), relative to the domain centre.
+
+    Returns
+    -------
+    ndarray, shape (nx, ny)
+        Heights (m) of the shape, positive away from the interface (the convention of
+        :func:`sphere`), 0 on the flat top (at the axis with a crown).
+
+    Raises
+    ------
+    InputError
+        ``shape.radius``, ``shape.edge_radius`` or ``shape.crown`` if not finite and > 0.
+    """
+    b = _positive(radius, "shape.radius")
+    R = _positive(edge_radius, "shape.edge_radius")
+    Rc = None if crown is None else _positive(crown, "shape.crown")
+    r = _radius_from(grid, center)
+    h = np.maximum(r - b, 0.0) ** 2 / (2.0 * R)
+    if Rc is not None:
+        h = h + r**2 / (2.0 * Rc)
+    return h

@@ -32,8 +32,9 @@ ALL = "*"
 SECTIONS = ("grid", "body1", "body2", "load", "adhesion", "friction", "humidity", "solver", "output")
 
 #: The body keys every kind reads (the films' keys ``film`` and ``hamaker`` belong to the
-#: capillary kinds).
-BODY_KEYS = frozenset({"E", "nu", "rigid", "name", "roughness", "shape"})
+#: capillary kinds); ``texture`` and ``waviness`` add to the body's topography like
+#: ``roughness``, so every kind that builds a gap reads them.
+BODY_KEYS = frozenset({"E", "nu", "rigid", "name", "roughness", "shape", "texture", "waviness"})
 
 #: The sections every kind reads in full, or with these keys.
 COMMON: dict[str, Union[str, frozenset]] = {

@@ -10,6 +10,10 @@ Sign conventions of scenario files
 * A body's ``roughness`` holds heights *as measured on that body*: positive out of the body,
   toward the counter-surface (what a profilometer or AFM scan of that surface gives).
   Asperities therefore close the gap, whichever body carries them.
+* A body's ``texture`` (dimples, pillars, grooves) and ``waviness`` are topography too, with
+  the roughness's sign (a pillar closes the gap, a dimple opens it); they add to its roughness
+  (:mod:`tribobem.geometry.textures`), and :attr:`Problem.roughness1` / ``roughness2`` hold
+  the sum (the body's whole topography).
 * The initial gap is ``h = shape1 + shape2 - roughness1 - roughness2``, shifted so that its
   minimum is 0: approach 0 is the first touch.
 """
@@ -53,7 +57,8 @@ class Problem:
     gap : ndarray
         Initial gap h (m), minimum 0.
     roughness1, roughness2 : ndarray
-        The bodies' roughness heights (m, positive toward the counter-surface).
+        The bodies' topographies (m, positive toward the counter-surface): roughness plus
+        texture plus waviness.
     shape1, shape2 : ndarray
         The bodies' shapes (m, convex toward the other body).
     interaction : DugdaleAdhesion or None
@@ -428,6 +433,8 @@ def _shape(spec, grid: Grid, key: str) -> np.ndarray:
             wy = spec.wavelength_y if spec.wavelength_y is not None else grid.ly
             h = geo.bisinusoidal(grid, spec.amplitude, wx, wy)
             return h - h.min()
+        if spec.kind == "burl":
+            return geo.burl(grid, spec.radius, spec.edge_radius, crown=spec.crown, center=tuple(spec.center))
     except InputError as exc:
         raise _rewrap(exc, key) from None
     raise InputError(f"{key}.kind", f"unknown shape {spec.kind!r}")  # pragma: no cover (schema checks)
@@ -483,6 +490,27 @@ def _roughness(spec, grid: Grid, key: str, loader: _Loader, info: dict, warns: l
     return h
 
 
+def _texture_and_waviness(body: BodySpec, grid: Grid, name: str) -> np.ndarray | None:
+    """A body's texture plus waviness (m, positive out of the body), None when it has neither.
+
+    The grid's resolution is checked first (features of >= 3 cells, a burl within the domain:
+    :func:`tribobem.geometry.textures.check_body_geometry`): the schema checks the same when the
+    scenario gives the grid's size, this catches a grid sized by a topography file.
+    """
+    from ..geometry.textures import check_body_geometry
+
+    check_body_geometry(body, grid.dx, grid.dy, (grid.lx, grid.ly), name)
+    out = None
+    if body.texture is not None:
+        t = body.texture
+        out = geo.texture(grid, t.kind, t.pitch, t.size, t.depth, t.angle, key=f"{name}.texture")
+    if body.waviness is not None:
+        w = body.waviness
+        wav = geo.waviness(grid, w.amplitude, w.wavelength, w.angle, key=f"{name}.waviness")
+        out = wav if out is None else out + wav
+    return out
+
+
 def _sphere_radius(sc: Scenario) -> float | None:
     """Composite radius 1/R = 1/R1 + 1/R2 when the bodies are spheres (else None)."""
     curv, found = 0.0, False
@@ -529,6 +557,14 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     shape2 = _shape(sc.body2.shape, grid, "body2.shape")
     rough1 = _roughness(sc.body1.roughness, grid, "body1.roughness", loader, info, warns)
     rough2 = _roughness(sc.body2.roughness, grid, "body2.roughness", loader, info, warns)
+    stats_of = {"body1": rough1, "body2": rough2}  # the roughness proper, for its statistics
+    for name in ("body1", "body2"):
+        extra = _texture_and_waviness(getattr(sc, name), grid, name)
+        if extra is not None:
+            if name == "body1":
+                rough1 = rough1 + extra
+            else:
+                rough2 = rough2 + extra
     gap = shape1 + shape2 - rough1 - rough2
     if not np.all(np.isfinite(gap)):
         raise InputError("gap", "the initial gap contains NaN or infinite values")
@@ -569,7 +605,7 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
         if radius is not None and E_star is not None:
             info["tabor_parameter"] = interaction.tabor_parameter(radius, E_star)
             info["maugis_parameter"] = interaction.maugis_parameter(radius, E_star)
-    for name, h in (("body1", rough1), ("body2", rough2)):
+    for name, h in stats_of.items():
         kind = getattr(sc, name).roughness.kind
         if kind != "none":
             try:

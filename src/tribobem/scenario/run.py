@@ -84,6 +84,11 @@ class RunResult:
 
 
 # ----------------------------------------------------------------------------- loading
+def _has_topography(body) -> bool:
+    """Whether a body carries a topography map worth writing (roughness, texture or waviness)."""
+    return body.roughness.kind != "none" or body.texture is not None or body.waviness is not None
+
+
 def read_scenario_file(path) -> dict:
     """Read a TOML scenario file into a dict.
 
@@ -339,8 +344,8 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
              "tribobem_version": summary["versions"]["tribobem"],
              "effective_modulus": pb.info.get("effective_modulus"), "operator": pb.info.get("operator")}
     ds = build_fields(pb.grid, results, labels, initial_gap=pb.gap,
-                      roughness1=pb.roughness1 if sc.body1.roughness.kind != "none" else None,
-                      roughness2=pb.roughness2 if sc.body2.roughness.kind != "none" else None,
+                      roughness1=pb.roughness1 if _has_topography(sc.body1) else None,
+                      roughness2=pb.roughness2 if _has_topography(sc.body2) else None,
                       summary_steps=indices, attrs=attrs,
                       **({"tangential": tangential} if tangential else {}))
     for name, (maps, attrs_v) in out.cycle_fields.items():

@@ -372,6 +372,36 @@ Roughness = Annotated[
 ]
 
 
+def Angle():
+    """An angle in degrees: a number (degrees) or a string with an angle unit (``"30 deg"``,
+    ``"0.5 rad"``), finite."""
+    angle_units = {"degree", "radian", "arcminute", "arcsecond", "turn", "gradian"}
+
+    def validate(raw):
+        message = f"expected an angle in degrees (a number, or a string such as \"30 deg\"), got {raw!r}"
+        if isinstance(raw, bool):
+            raise PydanticCustomError("quantity", "{message}", {"message": message})
+        if isinstance(raw, (int, float)):
+            v = float(raw)
+        elif isinstance(raw, str):
+            try:
+                v = float(raw.strip())
+            except ValueError:
+
+                try:
+                    q = registry().Quantity(raw.strip())
+                except Exception:
+                    raise PydanticCustomError("quantity", "{message}", {"message": message}) from None
+                if not hasattr(q, "units") or str(q.units) not in angle_units:
+                    raise PydanticCustomError("quantity", "{message}", {"message": message})
+                v = float(q.to("degree").magnitude)
+        else:
+            raise PydanticCustomError("quantity", "{message}", {"message": message})
+        return _check_range(v, raw, None, None, None, None, "deg")
+
+    return Annotated[float, BeforeValidator(validate)]
+
+
 # ----------------------------------------------------------------------------- shapes
 class FlatShape(Section):
     kind: Literal["flat"] = "flat"
@@ -412,11 +442,97 @@ class BisinusoidalShape(Section):
     wavelength_y: Optional[Quantity("length", gt=0)] = None
 
 
-SHAPE_KINDS = ("flat", "sphere", "cylinder", "wavy_sphere", "bisinusoidal")
+class BurlShape(Section):
+    """A burl (the rounded flat punch): a flat top whose edge rounds off, optionally crowned.
+
+    ``h(r) = max(r - b, 0)^2 / (2 R) + r^2 / (2 R_c)`` (m, positive away from the interface, like
+    the sphere; :func:`tribobem.geometry.shapes.burl`).
+
+    ============  ====  ========  =====================================================
+    key           unit  default   meaning
+    ============  ====  ========  =====================================================
+    radius        m     required  radius ``b`` of the flat top, > 0, at most half the
+                                  smaller side of the grid
+    edge_radius   m     required  radius ``R`` of the rounded edge beyond ``r = b``, > 0
+    crown         m     none      radius ``R_c`` of a spherical crown over the whole
+                                  burl, > 0 (none: a flat top)
+    center        m     [0, 0]    position (x0, y0) of the axis from the domain centre
+    ============  ====  ========  =====================================================
+
+    References: :mod:`tribobem.analytic.punch` (rounded punch, flat punch, Kendall's pull-off,
+    the full-stick tangential stiffness), checked by ``tribobem validate --physics burl``.
+    """
+
+    kind: Literal["burl"]
+    radius: Quantity("length", gt=0)
+    edge_radius: Quantity("length", gt=0)
+    crown: Optional[Quantity("length", gt=0)] = None
+    center: Pair = Field(default_factory=lambda: [0.0, 0.0])
+
+
+SHAPE_KINDS = ("flat", "sphere", "cylinder", "wavy_sphere", "bisinusoidal", "burl")
 Shape = Annotated[
-    Union[FlatShape, SphereShape, CylinderShape, WavySphereShape, BisinusoidalShape],
+    Union[FlatShape, SphereShape, CylinderShape, WavySphereShape, BisinusoidalShape, BurlShape],
     Field(discriminator="kind"),
 ]
+
+
+# ----------------------------------------------------------------------------- textures, waviness
+class TextureSpec(Section):
+    """``texture`` of a body: a periodic pattern cut into or standing on its surface.
+
+    Heights are part of the body's topography (positive out of the body, like ``roughness``)
+    and add to its ``roughness`` and ``shape`` (:mod:`tribobem.geometry.textures`).
+
+    ========  ====  ========  ==========================================================
+    key       unit  default   meaning
+    ========  ====  ========  ==========================================================
+    kind      -     required  ``"dimples"`` (circular pits), ``"pillars"`` (circular
+                              flat-topped pillars) or ``"grooves"`` (parallel grooves)
+    pitch     m     required  period of the square lattice (dimples, pillars) or
+                              distance between groove centrelines, > ``size``
+    size      m     required  diameter of a pit or pillar, width of a groove, > 0
+    depth     m     required  depth of a pit or groove, height of a pillar, > 0
+    angle     deg   0         rotation of the lattice; direction of the grooves from
+                              the x axis (0: grooves along x)
+    ========  ====  ========  ==========================================================
+
+    A lattice point (a groove's centreline) passes through the domain centre.  The grid must
+    resolve the pattern: ``size`` and ``pitch - size`` each span at least 3 cells, else an
+    error names the key (:func:`tribobem.geometry.textures.check_resolution`).
+    """
+
+    kind: Literal["dimples", "pillars", "grooves"]
+    pitch: Quantity("length", gt=0)
+    size: Quantity("length", gt=0)
+    depth: Quantity("length", gt=0)
+    angle: Angle() = 0.0
+
+    @model_validator(mode="after")
+    def _fits(self):
+        if self.size >= self.pitch:
+            _fail("size", f"must be smaller than the pitch ({self.pitch:g} m), got {self.size:g} m: the "
+                          "features would merge")
+        return self
+
+
+class WavinessSpec(Section):
+    """``waviness`` of a body: its long-wavelength form (a wafer's waviness), one sinusoid
+    ``A cos(2 pi (x cos t + y sin t) / lambda)`` added to its topography (positive out of the
+    body, a crest at the domain centre; :func:`tribobem.geometry.textures.waviness`).
+
+    ==========  ====  ========  ========================================================
+    key         unit  default   meaning
+    ==========  ====  ========  ========================================================
+    amplitude   m     required  amplitude ``A``, >= 0 (peak to valley ``2 A``)
+    wavelength  m     required  wavelength ``lambda``, > 0, at least 3 cells
+    angle       deg   0         direction ``t`` of the wave vector from the x axis
+    ==========  ====  ========  ========================================================
+    """
+
+    amplitude: Quantity("length", ge=0)
+    wavelength: Quantity("length", gt=0)
+    angle: Angle() = 0.0
 
 
 # ----------------------------------------------------------------------------- bodies
@@ -450,13 +566,30 @@ class FilmSpec(Section):
 
 
 class BodySpec(Section):
-    """``[body1]`` / ``[body2]``: ``E`` and ``nu`` (or ``rigid = true``), ``roughness``, ``shape``;
-    for the capillary kinds ``film`` (:class:`FilmSpec`; absent: a dry body) and ``hamaker``, the
-    body's own Hamaker constant in vacuum (J, > 0; default: 19e-20 J for a body whose film
-    isotherm is ``"Si"``, else SiO2's 6.5e-20 J; SPEC 6, approximate).
+    """``[body1]`` / ``[body2]``: ``E`` and ``nu`` (or ``rigid = true``), ``roughness``, ``shape``,
+    ``texture``, ``waviness``; for the capillary kinds ``film`` (:class:`FilmSpec`; absent: a dry
+    body) and ``hamaker``, the body's own Hamaker constant in vacuum (J, > 0; default: 19e-20 J
+    for a body whose film isotherm is ``"Si"``, else SiO2's 6.5e-20 J; SPEC 6, approximate).
 
-    The initial gap is ``(shape2 + roughness2) - (shape1 + roughness1)``, shifted so that its
-    minimum is 0 (first touch at approach 0).
+    ==========  =====  ========  =====================================================
+    key         unit   default   meaning
+    ==========  =====  ========  =====================================================
+    E           Pa     required  Young's modulus, > 0 (or ``rigid = true``)
+    nu          -      required  Poisson's ratio in (-1, 0.5] (with ``E``)
+    rigid       -      false     a rigid body (no ``E``, no ``nu``)
+    name        -      none      label in the outputs
+    roughness   -      none      random or measured heights (``kind = ...``)
+    shape       -      flat      smooth shape: flat, sphere, cylinder, wavy_sphere,
+                                 bisinusoidal, burl (:class:`BurlShape`)
+    texture     -      none      dimples, pillars or grooves (:class:`TextureSpec`)
+    waviness    -      none      a long-wavelength sinusoid (:class:`WavinessSpec`)
+    film        -      dry       capillary kinds: the water film (:class:`FilmSpec`)
+    hamaker     J      material  capillary kinds: own Hamaker constant, > 0
+    ==========  =====  ========  =====================================================
+
+    The initial gap is ``(shape1 + shape2) - (topography1 + topography2)`` with a body's
+    topography its roughness + texture + waviness (positive out of the body), shifted so that
+    its minimum is 0 (first touch at approach 0).
     """
 
     E: Optional[Quantity("modulus", gt=0, allow_inf=True)] = None
@@ -465,6 +598,8 @@ class BodySpec(Section):
     name: Optional[str] = None
     roughness: Roughness = Field(default_factory=NoRoughness)
     shape: Shape = Field(default_factory=FlatShape)
+    texture: Optional[TextureSpec] = None
+    waviness: Optional[WavinessSpec] = None
     film: Optional[FilmSpec] = None
     hamaker: Optional[Quantity("energy", gt=0)] = None
 
@@ -541,36 +676,6 @@ class AdhesionSpec(Section):
     def enabled(self) -> bool:
         """Whether Dugdale adhesion is on (``model = "dugdale"``)."""
         return self.model == "dugdale"
-
-
-def Angle():
-    """An angle in degrees: a number (degrees) or a string with an angle unit (``"30 deg"``,
-    ``"0.5 rad"``), finite."""
-    angle_units = {"degree", "radian", "arcminute", "arcsecond", "turn", "gradian"}
-
-    def validate(raw):
-        message = f"expected an angle in degrees (a number, or a string such as \"30 deg\"), got {raw!r}"
-        if isinstance(raw, bool):
-            raise PydanticCustomError("quantity", "{message}", {"message": message})
-        if isinstance(raw, (int, float)):
-            v = float(raw)
-        elif isinstance(raw, str):
-            try:
-                v = float(raw.strip())
-            except ValueError:
-
-                try:
-                    q = registry().Quantity(raw.strip())
-                except Exception:
-                    raise PydanticCustomError("quantity", "{message}", {"message": message}) from None
-                if not hasattr(q, "units") or str(q.units) not in angle_units:
-                    raise PydanticCustomError("quantity", "{message}", {"message": message})
-                v = float(q.to("degree").magnitude)
-        else:
-            raise PydanticCustomError("quantity", "{message}", {"message": message})
-        return _check_range(v, raw, None, None, None, None, "deg")
-
-    return Annotated[float, BeforeValidator(validate)]
 
 
 class PathSpec(Section):
@@ -826,6 +931,7 @@ class Scenario(Section):
                 by = [k for k, kd in RUN_KINDS.items() if key in kd.result_keys()]
                 _fail(f"expected.{key}", f"kind = {self.kind!r} does not produce it (produced by kind "
                       f"{', '.join(repr(k) for k in by)}); the expected value could never be compared")
+        _geometry_fits_grid(self)
         if kind.check is not None:
             try:
                 kind.check(self)
@@ -837,6 +943,23 @@ class Scenario(Section):
     def implemented(self) -> bool:
         """Whether this version can run the scenario's kind (it has a runner)."""
         return self.kind in RUNNERS
+
+
+def _geometry_fits_grid(sc: "Scenario") -> None:
+    """The grid resolves each texture and waviness and holds each burl's top (when the grid's
+    size is known here; a grid sized by a topography file is checked when the problem is built,
+    :func:`tribobem.scenario.build.build_problem`, by the same rules)."""
+    from ..geometry.textures import check_body_geometry
+
+    lengths = sc.grid.lengths
+    nx, ny = sc.grid.shape
+    if lengths is None or nx is None:
+        return
+    for name in ("body1", "body2"):
+        try:
+            check_body_geometry(getattr(sc, name), lengths[0] / nx, lengths[1] / ny, lengths, name)
+        except InputError as exc:
+            _fail(exc.field, exc.reason)
 
 
 # ----------------------------------------------------------------------------- parsing

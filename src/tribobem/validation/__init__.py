@@ -15,6 +15,8 @@ in the order they run):
     ``maugis_dugdale``, ``md_pull_off``, ``guduru``.
 :mod:`~tribobem.validation.studies`
     ``bisinusoidal_resolution`` (the published 625-case table of Paper A section 6).
+:mod:`~tribobem.validation.burl`
+    ``rounded_punch``, ``flat_punch``, ``burl_stiffness``, ``kendall``, ``texture_cell``.
 
 Three tiers: ``quick`` (small grids), ``ci`` (the gating tier of CI: the cases that protect
 published numbers at a resolution that still discriminates and fits CI's time budget per
@@ -71,6 +73,7 @@ PHYSICS = (
     "capillary",   # sphere_flat_capillary, capillary_force_balance (Papers B, C)
     "humid_friction",  # humid_dry_limit, humid_uncoupled_onset, humid_coupled_onset, humid_force_balance,
                        # humid_loop_energy (partial_slip and hysteresis with [humidity])
+    "burl",        # rounded_punch, flat_punch, burl_stiffness, kendall, texture_cell (burls and textures)
 )
 
 

@@ -126,6 +126,8 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
     # humid_friction (64^2, about 30 s on 2 cores)
     "humid_dry_limit": "full", "humid_uncoupled_onset": "full", "humid_coupled_onset": "full",
     "humid_force_balance": "full", "humid_loop_energy": "full",
+    # burl (about 25 s on 2 cores, the kendall pull-off on 264^2 most of it)
+    "rounded_punch": "full", "flat_punch": "full", "burl_stiffness": "full", "kendall": "full", "texture_cell": "full",
 }
 
 
