@@ -280,6 +280,9 @@ class Backend:
         T = out if out is not None else np.empty((N1, N2 // 2 + 1), dtype=complex)
         if m2 != N2:
             row = self._real_rows(m1, m2, N2)
+            dirty = work_buffers(self).pop(("rows dirty", m1, m2, N2), False)
+            if dirty:  # lent as the out of irfft2_rows: clear the padding again
+                row[:, m2:] = 0.0
             row[:, :m2] = a
             src = row
         else:
@@ -321,6 +324,26 @@ class Backend:
         u = out if out is not None else np.empty((rows, N2))
         _pocketfft.c2r(A[:rows], (1,), N2, False, 2, u, w)
         return u
+
+    def rows_buffer(self, m1: int, m2: int, N2: int):
+        """The (per-thread) m1 x N2 real work array of :meth:`rfft2_padded`, lent as the ``out`` of
+        :meth:`irfft2_rows` (scipy.fft path): no fresh m1 x N2 array per inverse transform.  Its
+        contents are valid until the next transform on this thread; the next forward transform
+        clears the padding columns it overwrote.
+
+        Parameters
+        ----------
+        m1, m2, N2 : int
+            Rows, unpadded and padded columns.
+
+        Returns
+        -------
+        ndarray
+            Real array of shape (m1, N2).
+        """
+        row = self._real_rows(m1, m2, N2)
+        work_buffers(self)[("rows dirty", m1, m2, N2)] = True
+        return row
 
     def _lean(self) -> bool:
         return self.name == "numpy" and self.fft == "scipy" and _pocketfft is not None

@@ -152,7 +152,7 @@ class ConvolutionOperator:
         """
         return self.apply(traction)
 
-    def apply(self, traction):
+    def apply(self, traction, out=None):
         """Displacements (m) from tractions (Pa).
 
         Parameters
@@ -160,11 +160,14 @@ class ConvolutionOperator:
         traction : array
             Shape ``grid.shape`` for a single-component operator, else
             ``(len(components),) + grid.shape`` in the order of ``components``.
+        out : array, optional
+            Single-component operator: a C-contiguous real array of ``grid.shape`` to write
+            the displacement into (may be ``traction``); ignored otherwise.
 
         Returns
         -------
         array
-            Same shape as ``traction``.
+            Same shape as ``traction`` (``out`` when given to a single-component operator).
         """
         be, nx, ny = self.backend, self.grid.nx, self.grid.ny
         # Free boundary with scipy.fft: the zero-padded transforms skip the padding rows
@@ -174,22 +177,37 @@ class ConvolutionOperator:
         if len(self.components) == 1:
             spec = self.spectra.get("zz")
             if spec is None:
-                return self.xp.zeros_like(traction)
+                if out is None:
+                    return self.xp.zeros_like(traction)
+                out[...] = 0.0
+                return out
             if lean:
-                # the spectrum in a reused (per-thread) array: consumed by the inverse below
-                shp = (self.fft_shape[0], self.fft_shape[1] // 2 + 1)
-                bufs = work_buffers(self)
-                T = bufs.get("spectrum")
-                if T is None or T.shape != shp:
-                    T = bufs["spectrum"] = np.empty(shp, dtype=complex)
+                # The spectrum and the inverse's rows in reused (per-thread) arrays of the
+                # backend, shared by every operator on it (the normal operator and its
+                # preconditioner): no fresh multi-field arrays per call.
+                N1, N2 = self.fft_shape
+                shp = (N1, N2 // 2 + 1)
+                bufs = work_buffers(be)
+                T = bufs.get(("spectrum", shp))
+                if T is None:
+                    if len(bufs) > 16:
+                        bufs.clear()
+                    T = bufs[("spectrum", shp)] = np.empty(shp, dtype=complex)
                 T = be.rfft2_padded(np.asarray(traction, dtype=float), self.fft_shape, out=T)
-            else:
-                T = fwd(traction)
+                T *= spec
+                rows = be.irfft2_rows(T, self.fft_shape, nx, out=be.rows_buffer(nx, ny, N2))
+                if out is None:
+                    return np.array(rows[:, :ny])
+                out[...] = rows[:, :ny]
+                return out
+            T = fwd(traction)
             T *= spec
-            if lean:
-                return be.irfft2_rows(T, self.fft_shape, nx)[:, :ny]
             u = be.irfft2(T, s=self.fft_shape)
-            return u if self.periodic else u[:nx, :ny]
+            u = u if self.periodic else u[:nx, :ny]
+            if out is None:
+                return u
+            out[...] = u
+            return out
         T = [fwd(traction[k]) for k in range(len(self.components))]
         out = self.xp.zeros_like(traction)
         for i, ci in enumerate(self.components):
@@ -236,13 +254,48 @@ def _free_boundary_cached(grid: Grid, pair: ContactPair, components: tuple, back
     for out in components:
         for inp in components:
             key = out + inp
-            coeff = composite_coefficients(key, pair, X, Y, dx, dy)
-            coeff[nx, :] = 0.0  # offsets +-nx never occur in the linear convolution
-            coeff[:, ny] = 0.0
-            if not np.any(coeff):
-                continue
-            spectra[key] = be.asarray(_realify(np.fft.rfft2(coeff)))
+            spec = _padded_kernel_spectrum(key, pair, X, Y, dx, dy, nx, ny)
+            if spec is not None:
+                spectra[key] = be.asarray(spec)
     return spectra
+
+
+#: Rows of the 2nx x 2ny coefficient array computed at a time (about 2^22 points per block).
+_KERNEL_BLOCK_POINTS = 1 << 22
+
+
+def _padded_kernel_spectrum(key, pair, X, Y, dx, dy, nx, ny):
+    """``np.fft.rfft2`` of the wrap-around coefficient array of block ``key`` (None if zero),
+    real when its imaginary part is round-off; the coefficients are computed and transformed
+    along y in blocks of rows (then the FFT along x in place), so that the peak is the
+    complex half-spectrum and one block, not several full 2nx x 2ny arrays.  The same
+    transforms as ``np.fft.rfft2`` (rfft along the last axis, then fft along the first), so the
+    same numbers."""
+    N1, N2 = X.shape[0], Y.shape[1]
+    C = np.empty((N1, N2 // 2 + 1), dtype=complex)
+    step = max(1, _KERNEL_BLOCK_POINTS // N2)
+    nonzero = False
+    for i0 in range(0, N1, step):
+        i1 = min(N1, i0 + step)
+        coeff = composite_coefficients(key, pair, X[i0:i1], Y, dx, dy)
+        if i0 <= nx < i1:
+            coeff[nx - i0, :] = 0.0  # offsets +-nx never occur in the linear convolution
+        coeff[:, ny] = 0.0
+        nonzero = nonzero or bool(np.any(coeff))
+        C[i0:i1] = np.fft.rfft(coeff, axis=1)
+    if not nonzero:
+        return None
+    C = np.fft.fft(C, axis=0, out=C)
+    imag = real = 0.0
+    for i0 in range(0, N1, step):
+        blk = C[i0:i0 + step]
+        imag = max(imag, float(np.abs(blk.imag).max()))
+        real = max(real, float(np.abs(blk.real).max()))
+    if imag <= 1e-12 * max(real, 1e-300):
+        out = np.empty(C.shape)
+        out[...] = C.real
+        return out
+    return C
 
 
 def free_boundary_operator(grid: Grid, pair: ContactPair, components=("z",),

@@ -74,6 +74,12 @@ from .normal_problem import normal_problem, normal_result
 
 __all__ = ["solve_normal_cg", "fft_preconditioner"]
 
+#: Coarse-grid start (``coarse_levels=None``): halve the grid while the coarser one keeps at
+#: least this many nodes, at most ``_COARSE_MAX_LEVELS`` times; its tolerance.
+_COARSE_MIN_NODES = 256 * 256
+_COARSE_MAX_LEVELS = 3
+_COARSE_TOL = 1e-4
+
 
 def fft_preconditioner(operator: ConvolutionOperator) -> ConvolutionOperator:
     """The FFT-based approximate inverse M of the normal operator (cached on the operator).
@@ -98,11 +104,15 @@ def fft_preconditioner(operator: ConvolutionOperator) -> ConvolutionOperator:
     if spec is None:
         raise InputError("operator", "has no normal (zz) block: the normal solvers need one")
     K = np.real(np.asarray(op.backend.to_numpy(spec)))
-    M = np.zeros_like(K)
+    M = np.empty(K.shape)
     positive = K > 0
-    M[positive] = 1.0 / K[positive]
-    # K(q) -> 0 only at q = 0 (periodic): continue 1/K with its longest-wavelength value.
-    M[~positive] = M[positive].min()
+    if bool(positive.all()):
+        np.divide(1.0, K, out=M)  # (no masked copies of the spectrum)
+    else:
+        M[positive] = 1.0 / K[positive]
+        # K(q) -> 0 only at q = 0 (periodic): continue 1/K with its longest-wavelength value.
+        M[~positive] = M[positive].min()
+    del positive
     pre = ConvolutionOperator(op.grid, op.pair, ("z",), {"zz": op.backend.asarray(M)}, op.fft_shape, op.backend,
                               f"NormCG preconditioner of {op.kind}")
     op.__dict__["_normcg_preconditioner"] = pre
@@ -124,6 +134,10 @@ def solve_normal_cg(
     refresh: int = 50,
     stall: int = 2000,
     precondition: bool = True,
+    coarse_levels: int | None = None,
+    coarse_tol: float = _COARSE_TOL,
+    coarse_restrict: str = "mean",
+    coarse_prolong: str = "constant",
 ) -> NormalResult:
     """Solve a normal contact problem (with or without adhesion) by NormCG.
 
@@ -160,13 +174,28 @@ def solve_normal_cg(
     precondition : bool
         Use the FFT preconditioner (default).  False gives the unpreconditioned
         bound-constrained CG (for comparison).
+    coarse_levels : int, optional
+        Coarse-grid start: first solve the same problem on a grid with cells 2x larger (the
+        gap's 2 x 2 block mean; recursively ``coarse_levels`` deep) to ``coarse_tol`` and
+        start from its pressure on the 2 x 2 fine nodes.  The converged result is that of the
+        cold start (same contact nodes, pressures within the tolerance).  None (default):
+        automatic -- non-adhesive cold starts halve the grid while the coarse one keeps
+        >= 256^2 nodes, at most 3 times (fewer fine iterations: benchmarks/README.md, whole
+        burl); 0: off.  Excludes ``initial_pressure``; each level needs even grid sizes.
+    coarse_tol : float
+        Tolerance of the coarse solves (a start only).
+    coarse_restrict, coarse_prolong : str
+        Coarse gap: "mean" (default) or "min" of each 2 x 2 block; fine start: "constant"
+        (default, each coarse value on its 4 nodes) or "linear" (bilinear).
 
     Returns
     -------
     NormalResult
         As :func:`~tribobem.solvers.normal.solve_normal`; ``info`` adds ``method``
         ("normcg"), ``set_changes`` (iterations in which the contact set or an outside
-        stress changed) and ``convolutions`` (number of FFT convolutions).
+        stress changed), ``convolutions`` (number of FFT convolutions on this grid) and
+        ``coarse`` (None, or the coarse start's levels, grid, iterations and convolutions per
+        level, converged, cpu_s).
 
     Raises
     ------
@@ -178,6 +207,13 @@ def solve_normal_cg(
     t_start = time.perf_counter()
     op = operator.normal
     xp, grid = op.xp, op.grid
+    levels = _coarse_levels(coarse_levels, op, gap, interaction, initial_pressure, precondition)
+    coarse_info = None
+    if levels:
+        start = _coarse_start(op, gap, force, approach, levels, coarse_tol, max_iterations, stall,
+                              coarse_restrict, coarse_prolong)
+        if start is not None:
+            initial_pressure, initial_contact, coarse_info = start
     h, inter, floor, force_control, target, _, p, contact = normal_problem(
         op, gap, force, approach, interaction, tol, max_iterations, initial_pressure, initial_contact, refresh)
     h_eff = h if force_control else h - approach
@@ -191,9 +227,468 @@ def solve_normal_cg(
     outcome = run_iterations(solver, tol=tol, max_iterations=max_iterations, stall=stall)
     p = solver.p.reshape(grid.shape)
     contact = solver.cm.reshape(grid.shape)
-    return normal_result(op, h, p, contact, op.apply(p), approach, inter, outcome, strict, t_start,
-                          {"method": "normcg" if precondition else "bccg", "set_changes": solver.set_changes,
-                           "convolutions": solver.convolutions})
+    # the exact K p of the last (converged) iterate, else recomputed
+    u = solver.u.reshape(grid.shape) if solver.exact else op.apply(p)
+    counts = {"set_changes": solver.set_changes, "convolutions": solver.convolutions}
+    del solver
+    return normal_result(op, h, p, contact, u, approach, inter, outcome, strict, t_start,
+                          {"method": "normcg" if precondition else "bccg", **counts, "coarse": coarse_info})
+
+
+def _coarse_levels(levels, op, gap, interaction, initial_pressure, precondition) -> int:
+    """The number of coarse-grid levels to solve first (see ``solve_normal_cg``)."""
+    if levels is None:
+        # Automatic: non-adhesive cold starts on large grids only (the adhesive problem is not
+        # convex: another start may find another equilibrium).
+        if (initial_pressure is not None or not precondition
+                or not isinstance(interaction if interaction is not None else NoInteraction(), NoInteraction)):
+            return 0
+        levels, nx, ny = 0, op.grid.nx, op.grid.ny
+        while nx % 2 == 0 and ny % 2 == 0 and nx * ny >= 4 * _COARSE_MIN_NODES and levels < _COARSE_MAX_LEVELS:
+            nx, ny, levels = nx // 2, ny // 2, levels + 1
+        return levels
+    if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 0:
+        raise InputError("coarse_levels", f"must be an integer >= 0 or None, got {levels!r}")
+    if levels and initial_pressure is not None:
+        raise InputError("coarse_levels", "a coarse-grid start and initial_pressure exclude each other")
+    nx, ny = op.grid.nx, op.grid.ny
+    for _ in range(int(levels)):
+        if nx % 2 or ny % 2 or nx < 8 or ny < 8:
+            raise InputError("coarse_levels", f"{levels} levels need a grid divisible by 2^{levels} with at "
+                             f"least 4 x 4 coarse nodes, got {op.grid.nx} x {op.grid.ny}")
+        nx, ny = nx // 2, ny // 2
+    return int(levels)
+
+
+def _restrict(xp, a, how: str):
+    """2 x 2 block mean (or minimum) of ``a``: the field on the grid with cells twice as large."""
+    nx, ny = a.shape
+    blocks = a.reshape(nx // 2, 2, ny // 2, 2)
+    if how == "min":
+        return blocks.min(axis=(1, 3))
+    return blocks.mean(axis=(1, 3))
+
+
+def _prolong(xp, a, how: str):
+    """``a`` on the grid with cells half as large: each coarse value on its 2 x 2 fine nodes
+    ("constant"), or bilinear between the coarse cell centres ("linear", edges held)."""
+    if how == "linear":
+        # fine node 2I sits dx_f/2 before coarse centre I, 2I + 1 as far after it
+        lo = xp.concatenate([a[:1], a[:-1]], axis=0)
+        hi = xp.concatenate([a[1:], a[-1:]], axis=0)
+        rows = xp.empty((2 * a.shape[0], a.shape[1]))
+        rows[0::2] = 0.75 * a + 0.25 * lo
+        rows[1::2] = 0.75 * a + 0.25 * hi
+        lo = xp.concatenate([rows[:, :1], rows[:, :-1]], axis=1)
+        hi = xp.concatenate([rows[:, 1:], rows[:, -1:]], axis=1)
+        out = xp.empty((rows.shape[0], 2 * a.shape[1]))
+        out[:, 0::2] = 0.75 * rows + 0.25 * lo
+        out[:, 1::2] = 0.75 * rows + 0.25 * hi
+        return out
+    return xp.repeat(xp.repeat(a, 2, axis=0), 2, axis=1)
+
+
+def _coarse_operator(op):
+    """The normal operator of the same domain with cells twice as large (same materials,
+    boundary condition and backend)."""
+    from ..elasticity.operators import free_boundary_operator, periodic_operator
+    from ..grid import Grid
+
+    g = op.grid
+    cg = Grid(g.nx // 2, g.ny // 2, g.lx, g.ly, g.periodic)
+    if op.periodic:
+        kernel = "influence" if "influence" in op.kind else "spectral"
+        return periodic_operator(cg, op.pair, ("z",), kernel=kernel, backend=op.backend)
+    return free_boundary_operator(cg, op.pair, ("z",), backend=op.backend)
+
+
+def _coarse_start(op, gap, force, approach, levels, tol, max_iterations, stall, restrict, prolong):
+    """Solve the problem on the grid 2x coarser (recursively ``levels`` deep, to ``tol``) and
+    return its pressure and contact on this grid, with a summary; None when it gives no start."""
+    import warnings
+
+    xp = op.xp
+    t0 = time.process_time()
+    h = xp.asarray(gap, dtype=float)
+    if h.shape != op.grid.shape or not bool(xp.all(xp.isfinite(h))):
+        return None  # normal_problem reports it
+    cop = _coarse_operator(op)
+    hc = _restrict(xp, h, restrict)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # an unconverged coarse solve is still a start
+        res = solve_normal_cg(cop, hc, force=force, approach=approach, tol=tol, max_iterations=max_iterations,
+                              stall=stall, coarse_levels=levels - 1, coarse_tol=tol, coarse_restrict=restrict,
+                              coarse_prolong=prolong)
+    del hc
+    pc = xp.asarray(res.pressure)
+    if not bool(xp.all(xp.isfinite(pc))) or not bool((pc > 0).any()):
+        return None
+    p = _prolong(xp, pc, prolong)
+    xp.maximum(p, 0.0, out=p)
+    inner = res.info.get("coarse") or {}
+    info = {"levels": levels, "grid": [cop.grid.nx, cop.grid.ny], "tol": tol,
+            "iterations": [int(res.iterations)] + list(inner.get("iterations", [])),
+            "convolutions": [int(res.info["convolutions"])] + list(inner.get("convolutions", [])),
+            "converged": bool(res.converged), "cpu_s": time.process_time() - t0}
+    return p, p > 0, info
+
+
+class _NormCG(IterativeSolver):
+    """Working state of the bound-constrained preconditioned CG (flat arrays).
+
+    ``p`` full pressure (Pa), ``cm`` contact mask, ``idx`` its flat indices, ``u`` = K p (m),
+    exact or incrementally updated, ``r`` the contact gap (m) on ``idx`` (mean-free under
+    force control), ``d`` the search direction on the full grid (0 off the contact).
+
+    Memory: the full-grid fields are allocated once and the convolutions write into them
+    (``u``, ``q`` = K d or M r, ``g`` the gap); ``d``, ``r_old`` and the preconditioner's input
+    ``work`` are kept 0 off the contact by clearing only the nodes that leave it (no full-grid
+    fill per iteration).  Without outside stresses the pressure changes on the contact only,
+    so the pressure change is summed there (no copy of the previous pressure).
+    """
+
+    def __init__(self, op, inter, floor, h_eff, p, contact, target, refresh, pre):
+        xp = op.xp
+        self.op, self.xp, self.inter, self.floor, self.pre = op, xp, inter, floor, pre
+        self.shape = h_eff.shape
+        self.h = h_eff.ravel()
+        self.target, self.refresh = target, refresh
+        self.force_control = target is not None
+        self.has_outside = not isinstance(inter, NoInteraction)
+        self.h_scale = max(float(self.h.max() - self.h.min()), 1e-300)
+        self.p = xp.array(p, dtype=float).ravel()
+        self.cm = xp.array(contact, dtype=bool).ravel()
+        self.idx = xp.flatnonzero(self.cm)
+        n = self.p.size
+        self.d = xp.zeros(n)        # search direction, 0 off the contact
+        self.r_old = xp.zeros(n)    # previous residual (Polak-Ribiere), 0 off the contact
+        self.work = xp.zeros(n)     # preconditioner input: r on work_idx, 0 elsewhere
+        self.work_idx = self.idx[:0]
+        self.u = xp.empty(n)        # K p
+        self.q = xp.empty(n)        # K d, M r
+        self.g = xp.empty(n)        # the gap h + u (- approach)
+        self.p_old = xp.empty(n) if self.has_outside else None
+        self.rz_old = 0.0
+        self.delta = 0.0
+        self.changed = False
+        self.exact = False
+        self.since_exact = 0
+        self.set_changes = 0
+        self.convolutions = 0
+        self.pressure_change = float("inf")
+        self.gap_residual = float("inf")
+
+    # -- the steps run by iteration.run_iterations (start and iterate below)
+    def residual(self) -> float:
+        """Larger of the relative pressure change and the relative rms contact gap."""
+        return max(self.pressure_change, self.gap_residual)
+
+    def settled(self) -> bool:
+        """No change of the contact set or of an outside stress in the last iteration."""
+        return not self.changed
+
+    def is_exact(self) -> bool:
+        """Whether the displacement is exact (recomputed, not updated incrementally)."""
+        return self.exact
+
+    def confirm(self, tol: float) -> bool:
+        """Recompute the displacement exactly; converged if the gap residual stays below ``tol``
+        and nothing changes."""
+        self.make_exact()
+        return self.gap_residual < tol and not self.changed
+
+    # ---------------------------------------------------------------------------------
+    def K(self, v, out):
+        """K v written into ``out`` (flat)."""
+        self.convolutions += 1
+        self.op.apply(v.reshape(self.shape), out=out.reshape(self.shape))
+        return out
+
+    def _exact_u(self):
+        self.K(self.p, self.u)
+        self.exact, self.since_exact = True, 0
+
+    def make_exact(self):
+        """Recompute u = K p and the contact residual exactly (changed: set/load changes)."""
+        self._exact_u()
+        self._classify()
+
+    def _balance(self) -> bool:
+        """Force control: scale p - floor on the contact to the target force.  False when
+        the contact cannot carry it (beyond pull-off)."""
+        idx, floor = self.idx, self.floor
+        if len(idx) == 0:
+            return False
+        p_c = self.p[idx]
+        sum_c = float(p_c.sum())
+        fixed = float(self.p.sum()) - sum_c if self.has_outside else 0.0
+        free = sum_c - floor * len(idx)
+        scale = (self.target - fixed - floor * len(idx)) / free if free > 0 else -1.0
+        if scale <= 0:
+            return False
+        self.p[idx] = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
+        return True
+
+    def _gap(self):
+        """g = h + u, less the approach (the mean contact gap) under force control."""
+        g = self.g
+        xp, idx = self.xp, self.idx
+        xp.add(self.h, self.u, out=g)
+        if self.force_control and len(idx):
+            self.delta = float(g[idx].mean())
+            g -= self.delta
+        return g
+
+    def _classify(self):
+        """Update the approach, let overlapping nodes enter, re-evaluate the outside stresses,
+        and form the contact residual.  Sets ``self.changed`` when anything changed."""
+        xp = self.xp
+        g = self._gap()
+        # Non-contact nodes that overlap enter with their current pressure (the outside
+        # stress at g -> 0, i.e. the floor for a Dugdale law, 0 without adhesion).
+        overlap = (g < 0) & ~self.cm
+        entered = bool(overlap.any())
+        if entered:
+            self.cm |= overlap
+            self.idx = xp.flatnonzero(self.cm)
+            self.changed = True
+        if self.has_outside:
+            out = self.inter.outside_stress(g, xp)
+            out = xp.where(self.cm, self.p, out)
+            if not bool(xp.array_equal(out, self.p)):
+                # The outside load changed (fixed-point step): rebalance and recompute.
+                self.p = out
+                self.changed = True
+                if self.force_control and not self._balance():
+                    return ("the contact cannot carry the requested force: the load is beyond "
+                            "pull-off (no equilibrium under force control)")
+                self._exact_u()
+                g = self._gap()
+                # The new outside load may close nodes (the adhesive pull): they enter too;
+                # without this a state with no contact node stopped at once with overlaps.
+                overlap = (g < 0) & ~self.cm
+                if bool(overlap.any()):
+                    self.cm |= overlap
+                    self.idx = xp.flatnonzero(self.cm)
+        idx = self.idx
+        self.r = g[idx]
+        n_c = len(idx)
+        self.gap_residual = math.sqrt(dot(self.r, self.r) / n_c) / self.h_scale if n_c else 0.0
+        return None
+
+    def start(self):
+        """Force balance of the initial pressure, exact displacement, first classification."""
+        if self.force_control:
+            if len(self.idx) == 0 or not self._balance():
+                return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
+        # (_classify sets the non-contact nodes to the outside stress of their initial gap.)
+        self._exact_u()
+        return self._classify()
+
+    def iterate(self):
+        """One NormCG iteration; returns an error message when no equilibrium exists."""
+        xp, idx, floor = self.xp, self.idx, self.floor
+        n_c = len(idx)
+        if n_c == 0:
+            if self.force_control:
+                return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
+            # Displacement control without contact: nothing to solve (no node overlaps).
+            self.changed = False
+            self.pressure_change = 0.0
+            self.gap_residual = 0.0
+            if not self.exact:
+                self.make_exact()
+            return None
+        self.changed = False
+        r = self.r
+
+        # Preconditioned residual z = P_C M P_C r (mean-free on C under force control).
+        if self.pre is not None:
+            w = self.work
+            w[self.work_idx] = 0.0
+            w[idx] = r
+            self.work_idx = idx
+            self.convolutions += 1
+            self.pre.apply(w.reshape(self.shape), out=self.q.reshape(self.shape))
+            z = self.q[idx]
+        else:
+            z = r.copy()
+        if self.force_control:
+            z -= z.mean()
+
+        # Polak-Ribiere direction, kept across changes of the contact set (d = 0 off C).
+        rz = dot(r, z)
+        d_c = self.d[idx]
+        if self.rz_old > 0 and rz > 0:
+            beta = max(0.0, (rz - dot(z, self.r_old[idx])) / self.rz_old)
+            d_c *= beta
+            d_c += z
+        else:
+            d_c = z
+        if self.force_control:
+            d_c -= d_c.mean()
+        self.rz_old = rz
+        self.r_old[idx] = r   # 0 off the contact: the leavers are cleared below
+        self.d[idx] = d_c
+
+        # Step length (exact line search on the contact, force-constrained).
+        q = self.K(self.d, self.q)
+        q_c = q[idx]
+        if self.force_control:
+            q_c -= q_c.mean()
+        dq = dot(d_c, q_c)
+        rd = dot(r, d_c)
+        if not (dq > 0 and rd > 0):
+            # Not a descent direction (round-off near convergence): restart next time.
+            self.rz_old = 0.0
+            alpha = 0.0
+        else:
+            alpha = rd / dq
+
+        # Update on the contact; nodes that reach the floor leave it.
+        if self.has_outside:
+            self.p_old[...] = self.p
+        p_c0 = self.p[idx]
+        p_c = p_c0 - alpha * d_c
+        leave = p_c <= floor
+        any_leave = bool(leave.any())
+        self.p[idx] = xp.maximum(p_c, floor)
+        if any_leave:
+            leavers = idx[leave]
+            self.cm[leavers] = False
+            self.d[leavers] = 0.0
+            self.r_old[leavers] = 0.0
+            self.idx = xp.flatnonzero(self.cm)
+            self.changed = True
+            if self.force_control and not self._balance():
+                return ("the contact cannot carry the requested force: the load is beyond "
+                        "pull-off (no equilibrium under force control)")
+            self._exact_u()
+        else:
+            q *= alpha
+            self.u -= q
+            self.since_exact += 1
+            self.exact = False
+            if self.since_exact >= self.refresh:
+                self._exact_u()
+        status = self._classify()
+        if status is not None:
+            return status
+        if self.changed:
+            self.set_changes += 1
+
+        # Relative pressure change (as solve_normal).
+        if self.has_outside:
+            w = self.p_old
+            xp.subtract(self.p, w, out=w)
+            xp.abs(w, out=w)
+            norm = float(xp.abs(self.p).sum())
+            diff = float(w.sum())
+        else:
+            # p changed on the contact of this iteration's start only; p >= 0 everywhere
+            p_c0 -= self.p[idx]
+            diff = float(xp.abs(p_c0, out=p_c0).sum())
+            norm = float(self.p.sum())
+        self.pressure_change = diff / norm if norm > 0 else diff
+        return None
+
+
+def _coarse_levels(levels, op, gap, interaction, initial_pressure, precondition) -> int:
+    """The number of coarse-grid levels to solve first (see ``solve_normal_cg``)."""
+    if levels is None:
+        # Automatic: non-adhesive cold starts on large grids only (the adhesive problem is not
+        # convex: another start may find another equilibrium).
+        if (initial_pressure is not None or not precondition
+                or not isinstance(interaction if interaction is not None else NoInteraction(), NoInteraction)):
+            return 0
+        levels, nx, ny = 0, op.grid.nx, op.grid.ny
+        while nx % 2 == 0 and ny % 2 == 0 and nx * ny >= 4 * _COARSE_MIN_NODES and levels < _COARSE_MAX_LEVELS:
+            nx, ny, levels = nx // 2, ny // 2, levels + 1
+        return levels
+    if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 0:
+        raise InputError("coarse_levels", f"must be an integer >= 0 or None, got {levels!r}")
+    if levels and initial_pressure is not None:
+        raise InputError("coarse_levels", "a coarse-grid start and initial_pressure exclude each other")
+    nx, ny = op.grid.nx, op.grid.ny
+    for _ in range(int(levels)):
+        if nx % 2 or ny % 2 or nx < 8 or ny < 8:
+            raise InputError("coarse_levels", f"{levels} levels need a grid divisible by 2^{levels} with at "
+                             f"least 4 x 4 coarse nodes, got {op.grid.nx} x {op.grid.ny}")
+        nx, ny = nx // 2, ny // 2
+    return int(levels)
+
+
+def _restrict(xp, a, how: str):
+    """2 x 2 block mean (or minimum) of ``a``: the field on the grid with cells twice as large."""
+    nx, ny = a.shape
+    blocks = a.reshape(nx // 2, 2, ny // 2, 2)
+    if how == "min":
+        return blocks.min(axis=(1, 3))
+    return blocks.mean(axis=(1, 3))
+
+
+def _prolong(xp, a, how: str):
+    """``a`` on the grid with cells half as large: each coarse value on its 2 x 2 fine nodes
+    ("constant"), or bilinear between the coarse cell centres ("linear", edges held)."""
+    if how == "linear":
+        # fine node 2I sits dx_f/2 before coarse centre I, 2I + 1 as far after it
+        lo = xp.concatenate([a[:1], a[:-1]], axis=0)
+        hi = xp.concatenate([a[1:], a[-1:]], axis=0)
+        rows = xp.empty((2 * a.shape[0], a.shape[1]))
+        rows[0::2] = 0.75 * a + 0.25 * lo
+        rows[1::2] = 0.75 * a + 0.25 * hi
+        lo = xp.concatenate([rows[:, :1], rows[:, :-1]], axis=1)
+        hi = xp.concatenate([rows[:, 1:], rows[:, -1:]], axis=1)
+        out = xp.empty((rows.shape[0], 2 * a.shape[1]))
+        out[:, 0::2] = 0.75 * rows + 0.25 * lo
+        out[:, 1::2] = 0.75 * rows + 0.25 * hi
+        return out
+    return xp.repeat(xp.repeat(a, 2, axis=0), 2, axis=1)
+
+
+def _coarse_operator(op):
+    """The normal operator of the same domain with cells twice as large (same materials,
+    boundary condition and backend)."""
+    from ..elasticity.operators import free_boundary_operator, periodic_operator
+    from ..grid import Grid
+
+    g = op.grid
+    cg = Grid(g.nx // 2, g.ny // 2, g.lx, g.ly, g.periodic)
+    if op.periodic:
+        kernel = "influence" if "influence" in op.kind else "spectral"
+        return periodic_operator(cg, op.pair, ("z",), kernel=kernel, backend=op.backend)
+    return free_boundary_operator(cg, op.pair, ("z",), backend=op.backend)
+
+
+def _coarse_start(op, gap, force, approach, levels, tol, max_iterations, stall, restrict, prolong):
+    """Solve the problem on the grid 2x coarser (recursively ``levels`` deep, to ``tol``) and
+    return its pressure and contact on this grid, with a summary; None when it gives no start."""
+    import warnings
+
+    xp = op.xp
+    t0 = time.process_time()
+    h = xp.asarray(gap, dtype=float)
+    if h.shape != op.grid.shape or not bool(xp.all(xp.isfinite(h))):
+        return None  # normal_problem reports it
+    cop = _coarse_operator(op)
+    hc = _restrict(xp, h, restrict)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # an unconverged coarse solve is still a start
+        res = solve_normal_cg(cop, hc, force=force, approach=approach, tol=tol, max_iterations=max_iterations,
+                              stall=stall, coarse_levels=levels - 1, coarse_tol=tol, coarse_restrict=restrict,
+                              coarse_prolong=prolong)
+    del hc
+    pc = xp.asarray(res.pressure)
+    if not bool(xp.all(xp.isfinite(pc))) or not bool((pc > 0).any()):
+        return None
+    p = _prolong(xp, pc, prolong)
+    xp.maximum(p, 0.0, out=p)
+    inner = res.info.get("coarse") or {}
+    info = {"levels": levels, "grid": [cop.grid.nx, cop.grid.ny], "tol": tol,
+            "iterations": [int(res.iterations)] + list(inner.get("iterations", [])),
+            "convolutions": [int(res.info["convolutions"])] + list(inner.get("convolutions", [])),
+            "converged": bool(res.converged), "cpu_s": time.process_time() - t0}
+    return p, p > 0, info
 
 
 class _NormCG(IterativeSolver):
