@@ -99,9 +99,12 @@ def test_info_reads_a_shipped_file(monkeypatch):
 def _text_files():
     for folder in ("src", "tests", "examples", "benchmarks", "studies", "docs", ".ci"):
         for p in (ROOT / folder).rglob("*"):
-            if p.is_file() and p.suffix in (".py", ".toml", ".md", ".txt", ".cfg", "") and "egg-info" not in str(p):
+            generated = any(part in ("_build", "api") for part in p.relative_to(ROOT).parts[:2]) and folder == "docs"
+            if p.is_file() and p.suffix in (".py", ".toml", ".md", ".txt", ".cfg", "") and "egg-info" not in str(p) \
+                    and not generated:
                 yield p
     yield ROOT / "README.md"
+    yield ROOT / "CHANGELOG.md"
     yield ROOT / "pyproject.toml"
 
 

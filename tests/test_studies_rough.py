@@ -23,7 +23,7 @@ PARK = topography_path("example_ps.tiff")
 
 def _docs_stamps() -> dict:
     """Modification times of the published files (docs/data, docs/figures)."""
-    return {p: p.stat().st_mtime_ns for p in (ROOT / "docs").rglob("*") if p.is_file()}
+    return {p: p.stat().st_mtime_ns for folder in ("data", "figures") for p in (ROOT / "docs" / folder).rglob("*") if p.is_file()}
 
 
 def _load_example(name: str):

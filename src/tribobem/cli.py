@@ -727,7 +727,7 @@ def compare_loop(
 
     Both loops: Paper F Eq. 3 fitted to the pre-sliding part of the last rising branch, from its turning point.
 
-    A, B, C: F = -0.5, 0, 0.5 x the force scale (simulated: mu F0+; measured: F* = max |F| of the record).
+    A, B, C: F = -0.5, 0, 0.5 x the force scale (simulated: mu F0+; measured: F* = the largest absolute force of the record).
     """
     with _user_errors():
         from .analysis.loops import compare_loops

@@ -1,19 +1,19 @@
 """Analytic reference solutions (SPEC 8), used to validate the numerical solvers.
 
-Modules
--------
-hertz     Hertz sphere on flat (thesis A.1).
-adhesion  Bradley, JKR, DMT and Maugis-Dugdale (thesis A.2; Johnson-Greenwood form).
-wavy      Rigid sphere on an axisymmetric wavy surface with a Dugdale zone (Guduru 2007,
-          Paper A Eqs. 25-30, re-derived) and its JKR limit.
-periodic  Westergaard sinusoid, bisinusoidal (JGH 1985) asymptotes, Paper A bisinusoidal
-          pull-off fit.
-rough     Greenwood-Williamson and Persson theories (thesis 2.1.1-2.1.2).
-mindlin   Cattaneo-Mindlin, Mindlin-Deresiewicz loops (SPEC 7, corrected Eq. 2.27c) and the
-          Spence (1975) stick ratio of normal loading with friction (dissimilar bodies).
-capillary Sphere-flat capillary force with films (thesis A.27-A.29) and the island rule's value.
-punch     Rounded and sharp flat punches (burls; Sneddon 1965), Kendall's flat-punch pull-off and
-          the full-stick tangential stiffness 8 a/k.
+Modules::
+
+    hertz     Hertz sphere on flat (thesis A.1).
+    adhesion  Bradley, JKR, DMT and Maugis-Dugdale (thesis A.2; Johnson-Greenwood form).
+    wavy      Rigid sphere on an axisymmetric wavy surface with a Dugdale zone (Guduru 2007,
+              Paper A Eqs. 25-30, re-derived) and its JKR limit.
+    periodic  Westergaard sinusoid, bisinusoidal (JGH 1985) asymptotes, Paper A bisinusoidal
+              pull-off fit.
+    rough     Greenwood-Williamson and Persson theories (thesis 2.1.1-2.1.2).
+    mindlin   Cattaneo-Mindlin, Mindlin-Deresiewicz loops (SPEC 7, corrected Eq. 2.27c) and the
+              Spence (1975) stick ratio of normal loading with friction (dissimilar bodies).
+    capillary Sphere-flat capillary force with films (thesis A.27-A.29) and the island rule's value.
+    punch     Rounded and sharp flat punches (burls; Sneddon 1965), Kendall's flat-punch pull-off and
+              the full-stick tangential stiffness 8 a/k.
 
 Conventions: SI units, E* the composite modulus, forces positive when compressive, pull-off
 forces NEGATIVE (``*_pull_off_magnitude`` helpers give |F|), approach positive when the bodies

@@ -4,7 +4,7 @@ All functions use SI units; ``E_star`` is the composite modulus, mean pressures 
 (compressive) nominal pressures (force per period area).
 
 Westergaard (1939); Johnson, *Contact Mechanics* (1985) section 13.2
--------------------------------------------------------------------
+--------------------------------------------------------------------
 1D profile (plane strain, period L)::
 
     h(x) = A (1 - cos(2 pi x/L)),      p* = pi E* A / L   (pressure for full contact)

@@ -36,7 +36,7 @@ form above was re-derived here from Sneddon's axisymmetric punch solution:
   F_M = P, Delta_M = 4 (beta/3)^(2/3) Delta;
 * Eq. 26 is gap(c) = h0 divided by h0, the wavy bracket being gap_w(c)/A with
   gap_w(r) = A(1 - cos 2 pi r/xi) - delta_w (1 - (2/pi) asin(a/r))
-            - (2 pi A/xi) int_0^a t H0(2 pi t/xi)/sqrt(r^2 - t^2) dt.
+  - (2 pi A/xi) int_0^a t H0(2 pi t/xi)/sqrt(r^2 - t^2) dt.
 
 The tests check it against a direct quadrature of the gap (an independent Abel form) and that
 alpha = 0 reproduces :func:`maugis_dugdale_curve` exactly.  lambda -> infinity gives Guduru's

@@ -17,8 +17,9 @@ matching Paper C's 0.9 nm on SiO2 and 0.6 nm on Si at 35 % RH; the thesis prints
 ======  ====  ====  ====  ====  ====  ====  ====  ====  ====  ====  ====  ====
 RH      0     .10   .20   .30   .35   .40   .50   .60   .70   .80   .90   .95
 SiO2    0     0.30  0.55  0.80  0.90  0.95  1.05  1.20  1.35  1.60  2.00  2.60 nm
-Si      two thirds of the SiO2 thicknesses
 ======  ====  ====  ====  ====  ====  ====  ====  ====  ====  ====  ====  ====
+
+Si: two thirds of the SiO2 thicknesses.
 
 Conventions used by every isotherm here:
 

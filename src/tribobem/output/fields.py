@@ -13,7 +13,8 @@ variable                      dims            meaning
 ``initial_gap``               x, y            undeformed gap h (m), minimum 0
 ``roughness_body1/2``         x, y            roughness heights of each body (m)
 ``label``                     step            "loading 3", "preload", "pull-off", ...
-``normal_force``, ``approach``  step          force (N) and approach (m) of the step
+``normal_force``              step            force of the step (N)
+``approach``                  step            approach of the step (m)
 ``summary_step``              step            index of the step in summary.json (-1: none)
 ============================  ==============  ==========================================
 

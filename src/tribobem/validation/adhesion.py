@@ -712,7 +712,7 @@ def guduru_rows(prob: GuduruProblem, tol_force: float = 0.07, eps: float = 0.06,
                 min_jump: float = 0.2, **kw) -> list[ValidationRow]:
     """Rows of the Guduru comparison.
 
-    * the largest force error along the cycle, relative to max(|P|, 1) pi dgamma R, over the
+    * the largest force error along the cycle, relative to ``max(|P|, 1) pi dgamma R``, over the
       points farther than 1.5 ``eps`` from every extremum of Delta(abar) (next to an extremum
       the branch ends, and a discretisation shift of the jump by less than a step moves the
       point to the other branch); 7%: along most of the cycle the agreement is 1-2%, but where

@@ -35,7 +35,7 @@ class ValidationRow:
     computed : float
         Numerical value (SI units).
     rel_error : float
-        |computed - reference| / scale (the scale is |reference| unless the case says otherwise).
+        ``|computed - reference| / scale`` (the scale is ``|reference|`` unless the case says otherwise).
     tolerance : float
         Largest accepted ``rel_error``.
     passed : bool
