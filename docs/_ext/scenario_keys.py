@@ -269,6 +269,8 @@ def list_table(header: list[str], rows: list[list[str]], widths: list[int] | Non
         first = True
         for cell in row:
             cell = " ".join(str(cell).split()) or " "
+            if cell[0] in "-*+":
+                cell = "\\" + cell  # a cell that starts like a bullet would break the list table
             out.append(("   * - " if first else "     - ") + cell)
             first = False
     out.append("")
@@ -282,6 +284,9 @@ class _Base(Directive):
         document = new_document(self.state.document.current_source or "scenario_keys", self.state.document.settings)
         document.settings.env = self.state.document.settings.env
         RSTParser().parse("\n".join(rst), document)
+        if rst and rst[0].startswith(".. list-table::") and not list(document.findall(nodes.table)):
+            # a malformed cell turns the whole table into text without a warning: fail the build
+            raise self.error("the generated list table did not parse (a cell breaks its markup)")
         return list(document.children)
 
 
