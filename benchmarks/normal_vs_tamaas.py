@@ -1,6 +1,6 @@
 """Non-adhesive periodic rough contact: tribobem vs Tamaas, in one process.
 
-Problem (SPEC 10, issue 7): periodic self-affine surface (Hurst 0.8, spectral rms slope 1,
+Problem (issue 7): periodic self-affine surface (Hurst 0.8, spectral rms slope 1,
 see common.py), elastic half-space E = 1, nu = 0.3 against it, mean pressure 0.01 E*,
 force control.  Tamaas: ``PolonskyKeerRey`` with pressure primal and constraint, tol 1e-10.
 tribobem: ``solve_normal(op, h, force=0.01 E* L^2, tol=...)`` on the periodic spectral

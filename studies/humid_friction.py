@@ -131,7 +131,7 @@ CYCLES, STEPS, AMPLITUDE = 3, 40, 0.9
 QUICK = {"flat_n": 64, "flat_size": 2.5e-6, "window": 1.25e-6, "n": 32, "rh": (0.5, 0.9),
          "ramp": (0.0, 20e-6, 21), "cycles": 1, "steps": 12}
 
-#: Water at 295 K (SPEC 6 defaults): surface tension (N/m), molar volume (m^3/mol).
+#: Water at 295 K (defaults): surface tension (N/m), molar volume (m^3/mol).
 GAMMA_WATER = 0.0725
 MOLAR_VOLUME = 18.05e-6
 GAS_CONSTANT = 8.314462618

@@ -1,7 +1,7 @@
 """Paper C: colloidal-probe pull-off on Si and SiO2 flats, humid (35 % RH) and in vacuum,
 spot by spot (mean and spread, like Paper C Fig. 5), as a resumable sweep of ``pulloff`` runs.
 
-Set-up (Paper C sections 3-4, SPEC 6) and what stands in for what we do not have:
+Set-up (Paper C sections 3-4) and what stands in for what we do not have:
 
 * probe: a SiO2 sphere (E = 64 GPa, nu = 0.17) of radius R = 2.5 um: Paper C's "5 um probe" is
   read as a diameter (a 5 um radius would double every smooth-sphere reference); it is smooth
@@ -18,10 +18,10 @@ Set-up (Paper C sections 3-4, SPEC 6) and what stands in for what we do not have
   :func:`studies.afm_pulloff.spot_origins` places them), each on the scan's own
   170^2 pixels (1.95 nm), free boundary, under the probe's apex.  Each keeps its own rms (the
   scan's scale factor times its own rms);
-* humid state: 35 % RH at 295 K, water films from the shipped isotherms (SPEC 6: 0.90 nm on
+* humid state: 35 % RH at 295 K, water films from the shipped isotherms (0.90 nm on
   SiO2, 0.60 nm on Si at 35 %; the probe is SiO2), equilibrium levelling, the capillary
   pressure times Paper C's contribution coefficient (0.17 at 35 % RH), water-solid van der
-  Waals with the SPEC 6 Hamaker constants (Si 19e-20 J, SiO2 6.5e-20 J, water 3.7e-20 J);
+  Waals with the default Hamaker constants (Si 19e-20 J, SiO2 6.5e-20 J, water 3.7e-20 J);
 * vacuum: Paper C models it as 1-2 % RH without water: the dry Dugdale pull-off (no films, no
   menisci; the contribution coefficient is 0 there anyway);
 * pull-off: unloading from Paper C's 100 nN set-point under displacement control, the most

@@ -1,5 +1,5 @@
 """Paper D Table 1: gross-slip onset of a smooth adhesive ball on an elastic flat (thesis Paper D
-section 3.1, SPEC 7).
+section 3.1).
 
 A rigid ball (R = 10 um) is pressed with F0 = 10 uN on an elastic half-space (E = 130 GPa,
 nu = 0.3): dissimilar bodies (Dundurs beta = 0.286), so the pressure alone leaves a slip annulus

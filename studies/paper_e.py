@@ -1,4 +1,4 @@
-"""Paper E section 3.2: the friction hysteresis study (thesis Paper E Figs. 6, 7, 9; SPEC 7).
+"""Paper E section 3.2: the friction hysteresis study (thesis Paper E Figs. 6, 7, 9).
 
 The model problem, one loop and its measures (:func:`md_state`, :func:`paper_e_problem`,
 :func:`start_state`, :class:`PaperELoop`, :func:`paper_e_loop`, :func:`loop_metrics`, the

@@ -16,7 +16,7 @@ compare-loop`` accepts); K_L is taken with :mod:`tribobem.analysis.loops` (the s
 Choices (documented, see also ``examples/studies/paper_f.py``):
 
 * Bodies: the wafer is body 1 (lower, smooth, elastic), the ball body 2 (upper: sphere plus the
-  measured roughness; SPEC 9.1 signs: F_x acts on the ball, delta_x is the ball's displacement).
+  measured roughness; file-contract signs: F_x acts on the ball, delta_x is the ball's displacement).
 * Roughness: the Sensofar confocal file ``plu-1.plu`` (1.27 x 0.96 mm, 768 x 576 points) stands
   in for Paper F's ball scans (1.1 mm, Sensofar, 1024^2).  Its "center"-detrended rms (2.83 um)
   is almost all a tilt and the ball's form: with the best quadratic removed (``detrend =
@@ -43,7 +43,7 @@ Choices (documented, see also ``examples/studies/paper_f.py``):
   cycle 1 (loop change below 2e-3 mu F0; one cycle gives the same K_L to all digits shown).
 * References (smooth Hertz ball, both bodies' compliance ``k = sum (2 - nu_i)/G_i``; the wafer
   adds 0.7-1 %): Mindlin-Deresiewicz slope of the branch from -mu F0, ``K0 (1 - (F + mu F0)/
-  (2 mu F0))^(1/3)`` (SPEC 9.1 ``mindlin_stiffness``), and Paper F Eq. 6 (the virgin-curve slope
+  (2 mu F0))^(1/3)`` (file-contract ``mindlin_stiffness``), and Paper F Eq. 6 (the virgin-curve slope
   at the same |F|), ``K0 (1 - |F|/(mu F0))^(1/3)``, ``K0 = 8 a/k``.  The loop energy of a
   Mindlin-Deresiewicz loop driven into gross sliding by a stroke d_s is
   ``2 mu F0 (d_s - 1.6 delta0)`` (the rectangle 2 mu F0 x d_s less the two pre-sliding corners).

@@ -1,6 +1,6 @@
-"""Run kinds ``capillary`` and humid ``pulloff`` (SPEC 9.1, issue 8 items 5 and 9).
+"""Run kinds ``capillary`` and humid ``pulloff`` (file-contract, issue 8 items 5 and 9).
 
-* Scenario keys: the SPEC 9.1 capillary block parses to SI; bad values are clear errors naming
+* Scenario keys: the file-contract capillary block parses to SI; bad values are clear errors naming
   the key (RH outside (0, 1], a non-monotone isotherm, a negative Hamaker constant, ...).
 * A sphere on a stiff flat with films over RH at a prescribed approach: the capillary force of
   every RH against the sphere-flat meniscus with films (thesis Eqs. A.27-A.29, solved here by
@@ -30,7 +30,7 @@ from tribobem.scenario.schema import ScenarioError
 T, GAMMA, VM = 295.0, 0.0725, 18.05e-6
 R = 1e-6  # sphere radius (m)
 
-#: The SPEC 9.1 capillary block (every key), on a tiny grid.
+#: The file-contract capillary block (every key), on a tiny grid.
 SPEC_91 = """
 kind = "capillary"
 [grid]
@@ -130,7 +130,7 @@ def laplace(rh):
 
 def sphere_flat_force(rh, t_ball, t_flat, radius=R, a=0.0):
     """Thesis Eqs. A.27-A.29 (Paper B Eqs. 17-19): the filling angle phi of the toroidal meniscus
-    from 1/r2 - 1/r1 = 1/r_k (r_k < 0, SPEC 6), then F = pi (R^2 sin^2 phi - a^2) dP_cap."""
+    from 1/r2 - 1/r1 = 1/r_k (r_k < 0), then F = pi (R^2 sin^2 phi - a^2) dP_cap."""
     rk = kelvin(rh)
 
     def f(phi):

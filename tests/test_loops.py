@@ -1,6 +1,6 @@
 """Measured friction loops (tribobem.analysis.loops) and the ``compare-loop`` command.
 
-The "measured" loops are generated from the exact Mindlin-Deresiewicz law (SPEC 7) with noise:
+The "measured" loops are generated from the exact Mindlin-Deresiewicz law with noise:
 after gross sliding at -mu P, the reloading branch is
 ``delta - delta_turn = 2 delta0 [1 - (1 - (F - F_turn)/(2 mu P))^(2/3)]``, whose slope is
 ``K = K0 (1 - (F - F_turn)/(2 mu P))^(1/3)``, ``K0 = 8 a/k = 3 mu P/(2 delta0)``; below mu P
@@ -223,7 +223,7 @@ def test_force_controlled_loop_without_sliding(tmp_path):
     Fs = 0.8 * MU * P
     up = np.linspace(-Fs, Fs, 400)
     r = Fs / (MU * P)
-    # reloading branch from -F* (SPEC 7) and the unloading branch, two cycles
+    # reloading branch from -F* and the unloading branch, two cycles
     dn = lambda Q: DELTA0 * (2 * (1 - (Fs - Q) / (2 * MU * P)) ** (2 / 3) - (1 - r) ** (2 / 3) - 1)  # noqa: E731
     dr = lambda Q: -DELTA0 * (2 * (1 - (Fs + Q) / (2 * MU * P)) ** (2 / 3) - (1 - r) ** (2 / 3) - 1)  # noqa: E731
     F = np.concatenate([up[::-1], up[1:], up[::-1][1:], up[1:]])

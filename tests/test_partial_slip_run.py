@@ -1,4 +1,4 @@
-"""Run kind ``partial_slip`` (SPEC 9.1): small copies of examples/partial_slip_paper_d.toml.
+"""Run kind ``partial_slip`` (file-contract): small copies of examples/partial_slip_paper_d.toml.
 
 * A tangential ramp written to disk: the summary.json step and run-level keys, the fields.nc
   friction variables, the stick/slip figures and the report.
@@ -131,7 +131,7 @@ def test_example_full_run(tmp_path):
     s = r.summary
     assert s["converged"] and s["gross_slip"]
     assert len(s["steps"]) == 10
-    # 128^2, 32 cells across a: the onset below Paper D's 0.97 (SPEC 7)
+    # 128^2, 32 cells across a: the onset below Paper D's 0.97
     assert 0.85 < s["static_friction_ratio"] < 0.97
     assert s["static_friction_force"] == pytest.approx(s["static_friction_ratio"] * MU * s["onset_repulsive_force"],
                                                        rel=1e-12)

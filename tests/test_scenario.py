@@ -1,4 +1,4 @@
-"""Scenario schema (SPEC 9.1 keys, clear errors), scenario -> problem, and runs of each kind."""
+"""Scenario schema (file-contract keys, clear errors), scenario -> problem, and runs of each kind."""
 
 import copy
 import math

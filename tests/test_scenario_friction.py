@@ -1,4 +1,4 @@
-"""Scenario schema of the tangential kinds (SPEC 9.1: kind partial_slip and hysteresis, [friction])."""
+"""Scenario schema of the tangential kinds (file-contract: kind partial_slip and hysteresis, [friction])."""
 
 import copy
 import tomllib
@@ -65,7 +65,7 @@ def check_error(data, field, words):
         assert w in str(err), str(err)
 
 
-# ----------------------------------------------------------------------------- the SPEC 9.1 blocks
+# ----------------------------------------------------------------------------- the file-contract blocks
 def test_spec_partial_slip_block():
     sc = parse_scenario(tomllib.loads('kind = "partial_slip"\n' + HEAD + """
 [load]

@@ -1,5 +1,5 @@
 """Paper D Table 1: gross-slip onset of a smooth rigid ball on an elastic flat with Dugdale
-adhesion, mu_T = 0, 0.5, 1, 2, with a resolution study (thesis Paper D section 3.1, SPEC 7).
+adhesion, mu_T = 0, 0.5, 1, 2, with a resolution study (thesis Paper D section 3.1).
 
     python examples/studies/paper_d_table1.py --out results/paper_d            # full study
     python examples/studies/paper_d_table1.py --out results/paper_d --quick    # one small grid (s)

@@ -1,7 +1,7 @@
 """Paper E section 3.2: friction hysteresis loops of a smooth rigid ball (R = 50 um) on an elastic
 flat (E = 70 GPa, nu = 0.3), F0 = 10 uN, mu = 0.2, Dugdale adhesion dgamma = 0, 50, 100 mJ/m^2
 (z0 = 0.2 nm: not given by Paper E, Paper D's value), domain +-2a, 1 + 2 force cycles
-(thesis Paper E Figs. 6, 7, 9; SPEC 7).
+(thesis Paper E Figs. 6, 7, 9).
 
     python examples/studies/paper_e.py                      # full study into results/paper_e
     python examples/studies/paper_e.py --quick              # 48^2, 12 steps per cycle (a minute)

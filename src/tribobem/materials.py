@@ -1,6 +1,6 @@
 """Elastic bodies and their composite moduli.
 
-Conventions (SPEC 1-2): body 1 is the lower body, body 2 the upper one; either may be
+Conventions: body 1 is the lower body, body 2 the upper one; either may be
 rigid (``E = inf``).  All moduli are in Pa.
 """
 
@@ -93,7 +93,7 @@ class ContactPair:
 
     @property
     def coupling_compliance(self) -> float:
-        """C_c = (1 - 2 nu1)/(4 pi G1) - (1 - 2 nu2)/(4 pi G2) in 1/Pa (SPEC 2).
+        """C_c = (1 - 2 nu1)/(4 pi G1) - (1 - 2 nu2)/(4 pi G2) in 1/Pa.
 
         Zero for identical materials.  The normal-tangential coupling of the two bodies
         subtracts because body 2 receives the opposite traction.

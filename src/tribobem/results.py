@@ -121,7 +121,7 @@ class NormalResult:
         return float(np.sqrt((self.contact_area + self.adhesive_area) / np.pi))
 
     def scalars(self) -> dict:
-        """The per-step scalars of the summary.json file contract (SPEC 9.1)."""
+        """The per-step scalars of the summary.json file contract (file-contract)."""
         return {
             "normal_force": self.force,
             "approach": self.approach,
@@ -144,7 +144,7 @@ class NormalResult:
 class TangentialResult:
     """Solution of one tangential (partial-slip) problem at a given pressure.
 
-    Conventions (SPEC 1 and 9.1): ``shear`` is the traction q = (q_x, q_y) acting on body 1
+    Conventions: ``shear`` is the traction q = (q_x, q_y) acting on body 1
     (body 2 receives -q); ``force_x, force_y`` is the tangential force applied to body 2, equal
     to the sum of q times the cell area; ``displacement_x, displacement_y`` (delta) is the rigid
     displacement of body 2 relative to body 1; ``slip`` is s = u1 - u2 - delta (m), the relative
@@ -232,12 +232,12 @@ class TangentialResult:
 
     @property
     def stick_ratio(self) -> float:
-        """A_stick / A_contact (compressive contact, SPEC 9.1); 0 without contact."""
+        """A_stick / A_contact (compressive contact, file-contract); 0 without contact."""
         n = np.count_nonzero(self.contact)
         return float(np.count_nonzero(self.stick)) / n if n else 0.0
 
     def scalars(self) -> dict:
-        """The per-step tangential scalars of the summary.json file contract (SPEC 9.1)."""
+        """The per-step tangential scalars of the summary.json file contract (file-contract)."""
         return {
             "tangential_force_x": self.force_x,
             "tangential_force_y": self.force_y,
@@ -283,7 +283,7 @@ class CoupledResult:
     capillary: object = field(default=None, repr=False)
 
     def scalars(self) -> dict:
-        """The per-step scalars of the summary.json file contract (SPEC 9.1).
+        """The per-step scalars of the summary.json file contract (file-contract).
 
         Returns
         -------

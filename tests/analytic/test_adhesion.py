@@ -1,4 +1,4 @@
-"""Bradley, JKR, DMT and Maugis-Dugdale (thesis A.9-A.24, SPEC 5)."""
+"""Bradley, JKR, DMT and Maugis-Dugdale (thesis A.9-A.24)."""
 
 import numpy as np
 import pytest
@@ -247,7 +247,7 @@ def test_md_displacement_control_roundtrip():
     np.testing.assert_allclose(s2.contact_radius, s.contact_radius, rtol=1e-8)
     a_s, F_s, d_s = maugis_dugdale_scales(R, DG, ES)
     np.testing.assert_allclose(s.approach, s.Delta_M * d_s, rtol=1e-14)
-    # A.24 with E*^2 (SPEC 5): d_s = (9 pi^2 dgamma^2 R / (16 E*^2))^(1/3)
+    # A.24 with E*^2: d_s = (9 pi^2 dgamma^2 R / (16 E*^2))^(1/3)
     assert d_s == pytest.approx((9 * np.pi**2 * DG**2 * R / (16 * ES**2)) ** (1 / 3), rel=1e-14)
     np.testing.assert_allclose(s.cohesive_radius, s.m * s.contact_radius, rtol=1e-14)
 

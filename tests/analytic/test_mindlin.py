@@ -1,4 +1,4 @@
-"""Cattaneo-Mindlin, Mindlin-Deresiewicz and Spence (SPEC 7)."""
+"""Cattaneo-Mindlin, Mindlin-Deresiewicz and Spence."""
 
 import math
 

@@ -20,7 +20,7 @@ from tribobem.solvers.capillary import island_fixed_point, solve_capillary
 
 GAMMA, VM, RG, T = 0.0725, 18.05e-6, 8.314462618, 295.0
 A_SIO2, A_SI, A_W = 6.5e-20, 19e-20, 3.7e-20
-SIO2_FILM = {0.3: 0.80e-9, 0.4: 0.95e-9, 0.5: 1.05e-9, 0.6: 1.20e-9, 0.7: 1.35e-9, 0.9: 2.0e-9}  # SPEC 6 table
+SIO2_FILM = {0.3: 0.80e-9, 0.4: 0.95e-9, 0.5: 1.05e-9, 0.6: 1.20e-9, 0.7: 1.35e-9, 0.9: 2.0e-9}  # the shipped SiO2 table
 
 
 def kelvin(rh):

@@ -1,4 +1,4 @@
-"""Adsorbed water films: uniform, equilibrium (open / closed) and thin-film levelling (SPEC 6)."""
+"""Adsorbed water films: uniform, equilibrium (open / closed) and thin-film levelling."""
 
 import math
 

@@ -1,4 +1,4 @@
-"""Adsorption isotherms and the disjoining pressure they imply (SPEC 6, Papers B and C)."""
+"""Adsorption isotherms and the disjoining pressure they imply (Papers B and C)."""
 
 import math
 

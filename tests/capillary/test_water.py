@@ -1,4 +1,4 @@
-"""Water: Kelvin radius, capillary pressure and RH validation (thesis Eqs. A.25-A.26, SPEC 6)."""
+"""Water: Kelvin radius, capillary pressure and RH validation (thesis Eqs. A.25-A.26)."""
 
 import math
 

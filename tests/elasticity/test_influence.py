@@ -1,4 +1,4 @@
-"""Love influence coefficients (SPEC 2) against numerical quadrature of the point kernels.
+"""Love influence coefficients against numerical quadrature of the point kernels.
 
 Every one of the nine (displacement, traction) components is checked against a direct
 numerical integration of :func:`point_kernel` over the loaded cell, for offsets in the loaded
@@ -199,7 +199,7 @@ def test_composite_normal_is_one_over_pi_E_star():
 
 
 def test_composite_coupling_constant():
-    """The composite coupling is C_c (SPEC 2) times the integral of X/rho^2."""
+    """The composite coupling is C_c times the integral of X/rho^2."""
     X, Y = _offset_grid()
     pair = ContactPair(M1, M2)
     comp = composite_coefficients("zx", pair, X, Y, DX, DY)

@@ -1,4 +1,4 @@
-"""Convolution operators (SPEC 2): DC-FFT free boundary and periodic (spectral / influence).
+"""Convolution operators: DC-FFT free boundary and periodic (spectral / influence).
 
 * the zero-padded DC-FFT equals the brute-force linear convolution with the influence
   coefficients (normal block and full 3x3 block of dissimilar bodies);

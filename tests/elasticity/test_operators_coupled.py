@@ -1,4 +1,4 @@
-"""The coupled 3x3 periodic operator (components x, y, z; SPEC 2).
+"""The coupled 3x3 periodic operator (components x, y, z).
 
 * every block of the "influence" kernel equals the direct spatial sum of the periodised
   closed-form Love coefficients (the ground truth of signs and factors);

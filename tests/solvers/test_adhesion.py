@@ -1,4 +1,4 @@
-"""Dugdale adhesion (SPEC 5, Paper A) against the analytic references.
+"""Dugdale adhesion (Paper A) against the analytic references.
 
 * Maugis-Dugdale rigid sphere on a silica flat (E = 73 GPa, nu = 0.17, R = 2.5 um, z0 = 0.3 nm)
   for lambda in {0.1, 0.3, 0.5, 1, 2, 5}: a, c, approach and force at points of the stable

@@ -1,4 +1,4 @@
-"""Normal contact without adhesion (SPEC 4): Polonsky-Keer CG against analytic references.
+"""Normal contact without adhesion: Polonsky-Keer CG against analytic references.
 
 * Hertz on the free-boundary (DC-FFT) operator: contact radius, p0, approach; force balance;
   complementarity; displacement control; warm start.
@@ -63,7 +63,7 @@ def test_hertz_free_boundary_128():
 
 @pytest.mark.slow
 def test_hertz_free_boundary_512():
-    """SPEC 4 accuracy bar: 512^2, 256 cells across the contact, 1%."""
+    """Accuracy bar: 512^2, 256 cells across the contact, 1%."""
     grid, op, h = hertz_problem(512)
     res = solve_normal(op, h, force=F_HERTZ, tol=1e-10)
     assert 2 * A_HERTZ / grid.dx >= 40

@@ -1,4 +1,4 @@
-"""Reliability (SPEC 11): clear errors for bad input, non-convergence is never silent."""
+"""Reliability: clear errors for bad input, non-convergence is never silent."""
 
 from __future__ import annotations
 

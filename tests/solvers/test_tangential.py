@@ -1,4 +1,4 @@
-"""Tangential contact with Coulomb friction (SPEC 7): partial slip at a given pressure, the
+"""Tangential contact with Coulomb friction: partial slip at a given pressure, the
 normal-tangential coupling loop and the tangential ramp to gross slip.
 
 * Cattaneo-Mindlin (identical steel bodies, free boundary): stick radius and rigid shift against
@@ -9,11 +9,11 @@ normal-tangential coupling loop and the tangential ramp to gross slip.
 * Coupling: identical materials make one pass; a rigid ball on silicon keeps a slip annulus at
   F_x = 0 and the sign of the coupling flips with the bodies (Paper D 3.1).
 * Periodic operator: Cattaneo in a periodic cell.
-* Reliability (SPEC 11): bad friction coefficient, gross slip, non-finite loads, wrong shapes,
+* Reliability: bad friction coefficient, gross slip, non-finite loads, wrong shapes,
   non-convergence.
 * tangential_ramp: gross-slip onset bracketed to 1e-3 mu F0+, pre-sliding displacement.
 
-The analytic formulas are those of :mod:`tribobem.validation.tangential` (SPEC 7).
+The analytic formulas are those of :mod:`tribobem.validation.tangential`.
 """
 
 from __future__ import annotations
@@ -213,7 +213,7 @@ def test_unloading_is_history_dependent(catt):
     tu = c.solve(force=(0.2 * MU * P, 0.0), reference=t6.relative_displacement, initial_shear=t6.shear)
     assert tu.converged, tu.message
     assert tu.force_x == pytest.approx(0.2 * MU * P, rel=1e-9)
-    # shift: Mindlin-Deresiewicz unloading branch (SPEC 7), observed 0.1%; the total state
+    # shift: Mindlin-Deresiewicz unloading branch, observed 0.1%; the total state
     # (virgin loading curve) is 30% lower
     qs, q = 0.6, 0.2
     d_md = c.delta0 * (2 * (1 - (qs - q) / 2) ** (2 / 3) - (1 - qs) ** (2 / 3) - 1)
@@ -357,7 +357,7 @@ def test_cattaneo_periodic():
 
 
 # --------------------------------------------------------------------------------------
-# Reliability (SPEC 11)
+# Reliability
 # --------------------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")

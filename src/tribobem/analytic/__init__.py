@@ -1,4 +1,4 @@
-"""Analytic reference solutions (SPEC 8), used to validate the numerical solvers.
+"""Analytic reference solutions, used to validate the numerical solvers.
 
 Modules::
 
@@ -9,7 +9,7 @@ Modules::
     periodic  Westergaard sinusoid, bisinusoidal (JGH 1985) asymptotes, Paper A bisinusoidal
               pull-off fit.
     rough     Greenwood-Williamson and Persson theories (thesis 2.1.1-2.1.2).
-    mindlin   Cattaneo-Mindlin, Mindlin-Deresiewicz loops (SPEC 7, corrected Eq. 2.27c) and the
+    mindlin   Cattaneo-Mindlin, Mindlin-Deresiewicz loops (corrected Eq. 2.27c) and the
               Spence (1975) stick ratio of normal loading with friction (dissimilar bodies).
     capillary Sphere-flat capillary force with films (thesis A.27-A.29) and the island rule's value.
     punch     Rounded and sharp flat punches (burls; Sneddon 1965), Kendall's flat-punch pull-off and

@@ -9,11 +9,11 @@ returned by a function named ``*_pull_off*`` is NEGATIVE (the most tensile force
 ``*_pull_off_magnitude`` helpers return its absolute value.  Approach delta > 0 pushes the bodies
 together.
 
-Dugdale (Maugis) cohesive law (SPEC 5, Paper A Eq. 2)::
+Dugdale (Maugis) cohesive law (Paper A Eq. 2)::
 
     sigma0 = 16 dgamma / (9 sqrt(3) z0),     h0 = dgamma / sigma0 = 9 sqrt(3) z0 / 16 = 0.974 z0
 
-Tabor and Maugis parameters (SPEC 5; Paper A Eq. 1 and Paper D Eq. 14 misprint mu_T)::
+Tabor and Maugis parameters (Paper A Eq. 1 and Paper D Eq. 14 misprint mu_T)::
 
     mu_T   = (R dgamma^2 / (E*^2 z0^3))^(1/3)
     lambda = 2 sigma0 (9 R / (16 pi dgamma E*^2))^(1/3)  (= 1.157 mu_T)
@@ -27,7 +27,7 @@ ratio of cohesive to contact radius::
         + 4 lambda^2 A/3 [sqrt(m^2-1) arctan sqrt(m^2-1) - m + 1] = 1                  (A.22)
     Delta_M = delta (16 E*^2 / (9 pi^2 dgamma^2 R))^(1/3) = A^2 - 4/3 A lambda sqrt(m^2-1)   (A.24)
 
-(the thesis prints E_s instead of E_s^2 in A.24: corrected here, SPEC 5).  Numerically the
+(the thesis prints E_s instead of E_s^2 in A.24: corrected here).  Numerically the
 unknown is s = sqrt(m^2 - 1) >= 0, so that the JKR-like limit (m -> 1) keeps full relative
 accuracy.  At fixed A the left side of A.22 is strictly increasing in m (both brackets have
 positive derivative 2 sqrt(m^2-1)/m + 2 m arctan sqrt(m^2-1) and
@@ -168,7 +168,7 @@ def dugdale_range(z0):
     """Dugdale range h0 = dgamma/sigma0 = 9 sqrt(3) z0 / 16 = 0.974 z0 (m).
 
     The range follows from equal work of adhesion, sigma0 h0 = dgamma, with the Dugdale stress
-    of :func:`dugdale_stress`.  (Paper D prints "9 sqrt(3) z0": wrong, see SPEC 5.)
+    of :func:`dugdale_stress`.  (Paper D prints "9 sqrt(3) z0": wrong.)
 
     Parameters
     ----------
@@ -901,7 +901,7 @@ def maugis_dugdale_scales(radius, dgamma, E_star):
         F = F_M F_scale, F_scale = pi R dgamma (N).
     d_scale : float
         delta = Delta_M d_scale, d_scale = (9 pi^2 dgamma^2 R / (16 E*^2))^(1/3) (m)
-        (thesis A.24 with E_s^2, SPEC 5).
+        (thesis A.24 with E_s^2).
     """
     R, g, E = float(radius), float(dgamma), float(E_star)
     return (np.cbrt(3.0 * np.pi * g * R**2 / (4.0 * E)), np.pi * R * g,

@@ -9,7 +9,7 @@ indentation) and filling angle phi (measured at the sphere's centre from the axi
     1/r2 - 1/r1 = 1/r_k = R_g T ln(RH) / (gamma V)                               (Kelvin, A.28)
     F_cap = pi (R^2 sin^2 phi - a^2) dP_cap                                      (A.29)
 
-Signs (SPEC 6): r_k < 0 and dP_cap < 0 below saturation, so the concave meniscus has
+Signs: r_k < 0 and dP_cap < 0 below saturation, so the concave meniscus has
 1/r1 - 1/r2 = 1/|r_k| and F_cap < 0 (tensile).  The thesis writes A.25 as
 (1/r1 - 1/r2)^-1 = r_k, which contradicts A.28 by a sign; A.28 (with r_k negative) is what is
 solved here.  r1 follows from the circle of radius r1 tangent to the film surfaces of both

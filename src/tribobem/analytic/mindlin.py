@@ -1,4 +1,4 @@
-"""Partial slip of a Hertz contact: Cattaneo-Mindlin, Mindlin-Deresiewicz and Spence (SPEC 7).
+"""Partial slip of a Hertz contact: Cattaneo-Mindlin, Mindlin-Deresiewicz and Spence.
 
 Conventions
 -----------
@@ -6,7 +6,7 @@ SI units.  A sphere (composite radius R) is pressed by a normal force ``P`` > 0 
 flat; ``a`` is the contact radius (m) and the pressure is taken as Hertzian,
 ``p(r) = p0 sqrt(1 - r^2/a^2)`` with ``p0 = 3 P/(2 pi a^2)``; ``mu`` is the Coulomb friction
 coefficient; ``Q`` the tangential force (N, signed); ``delta`` the tangential rigid shift of
-the bodies (m, same sign as ``Q``).  Tangential tractions act on body 1 (SPEC 1).
+the bodies (m, same sign as ``Q``).  Tangential tractions act on body 1.
 
 The tangential compliance of the pair is ``k = sum_i (2 - nu_i)/G_i`` with
 ``G_i = E_i/(2 (1 + nu_i))`` (1/Pa), summed over BOTH bodies; a rigid body contributes 0
@@ -31,7 +31,7 @@ For two identical bodies ``k = 2 (2 - nu)/G`` and ``K(0) = 4 G a/(2 - nu)`` (the
 ``K(0) = 8 G a/(2 - nu)`` (Paper F, "factor 8").  Both are ``8 a/k``.
 
 Mindlin-Deresiewicz (oscillating Q between +Q* and -Q* after the virgin loading to +Q*;
-SPEC 7, r = Q*/(mu P))::
+r = Q*/(mu P))::
 
     unloading from +Q*:  delta =  delta0 [2 (1 - (Q* - Q)/(2 mu P))^(2/3) - (1 - r)^(2/3) - 1]
     reloading from -Q*:  delta = -delta0 [2 (1 - (Q* + Q)/(2 mu P))^(2/3) - (1 - r)^(2/3) - 1]
@@ -47,7 +47,7 @@ does not close (the reloading branch misses the turning point +Q* by
 Spence (1975): normal loading with friction of dissimilar bodies
 ----------------------------------------------------------------
 When a sphere is pressed monotonically into a dissimilar half-space (Dundurs' beta != 0,
-``C_c = beta/(pi E*)``, SPEC 2), the pressure draws the surface of the more compressible
+``C_c = beta/(pi E*)``), the pressure draws the surface of the more compressible
 body inward relative to the other; friction resists it in an outer slip annulus c < r < a,
 the centre sticks.  The problem is self-similar (Spence 1975) and c/a depends on beta/mu
 only.  We did not have Spence's paper to hand; the relation used here was derived for this

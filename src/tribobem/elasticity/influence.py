@@ -6,7 +6,7 @@ traction.  Love (1929); Liu, Wang & Liu (2000); Chen & Wang (2008).  With the co
 
     R[F](x, y) = F(x+a, y+b) - F(x+a, y-b) - F(x-a, y+b) + F(x-a, y-b)
 
-the coefficients are R applied to antiderivatives F with d^2F/dXdY = point kernel (SPEC 2).
+the coefficients are R applied to antiderivatives F with d^2F/dXdY = point kernel.
 ``X ln(Y + rho)`` is written ``X asinh(Y/|X|)``: the dropped ``X ln|X|`` term cancels in
 the corner sum, and the asinh form has no catastrophic cancellation far from the load.
 
@@ -94,7 +94,7 @@ def single_body_coefficients(component: str, material: Material, x, y, dx: float
 
 
 def composite_coefficients(component: str, pair: ContactPair, x, y, dx: float, dy: float) -> np.ndarray:
-    """Influence coefficients of the interface of two bodies (SPEC 2).
+    """Influence coefficients of the interface of two bodies.
 
     Normal and in-plane parts add (both bodies displace into themselves); the normal-
     tangential coupling (``"xz", "zx", "yz", "zy"``) subtracts, since body 2 carries the
@@ -124,7 +124,7 @@ def composite_coefficients(component: str, pair: ContactPair, x, y, dx: float, d
 
 
 def point_kernel(component: str, material: Material, x, y) -> np.ndarray:
-    """Point-load kernels of one half-space (SPEC 2), used to verify the coefficients.
+    """Point-load kernels of one half-space, used to verify the coefficients.
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 """Elastic integral operators: surface tractions -> surface displacements.
 
-Two operators (SPEC 2), both convolutions evaluated with real FFTs and cached kernel
+Two operators, both convolutions evaluated with real FFTs and cached kernel
 spectra:
 
 * :func:`free_boundary_operator` -- DC-FFT (Liu, Wang & Liu 2000): the closed-form Love
@@ -450,7 +450,7 @@ def periodic_operator(grid: Grid, pair: ContactPair, components=("z",), kernel: 
         yy = [1/q - nu qy^2/q^3]/G            xy = yx = -nu qx qy/(G q^3)
         zx = -xz = -i (1 - 2 nu) qx/(2 G q^2) zy = -yz = -i (1 - 2 nu) qy/(2 G q^2)
 
-    (the transforms of the point kernels of SPEC 2).  The two bodies' normal and in-plane
+    (the transforms of the point kernels).  The two bodies' normal and in-plane
     kernels add (zz = 2/(E* q)); the coupling blocks subtract, body 1 minus body 2, and vanish
     for identical materials (they are then left out of ``spectra``, as xy/yx are when both
     nu are 0).  A rigid body adds 0.

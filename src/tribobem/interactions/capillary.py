@@ -1,6 +1,6 @@
 """Capillary interaction: the stress law outside the contact with water films (Papers B, C).
 
-One law per non-contact node, in this order (SPEC 6):
+One law per non-contact node, in this order:
 
 1. Dugdale solid-solid adhesion, ``-sigma0`` where 0 < g < h0, when an adhesion law is given
    (solid-solid wins: h0 is below a water-molecule diameter, no water fits there; Paper B

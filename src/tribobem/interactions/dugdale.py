@@ -2,7 +2,7 @@
 
 A constant tensile stress ``-sigma0`` acts where 0 < g < h0, nothing beyond (Paper A
 Eq. 13), with ``sigma0 = 16 dgamma / (9 sqrt(3) z0)`` and ``h0 = dgamma / sigma0 =
-9 sqrt(3) z0 / 16 = 0.974 z0`` (SPEC 5; Paper D misprints h0 as 9 sqrt(3) z0).
+9 sqrt(3) z0 / 16 = 0.974 z0`` (Paper D misprints h0 as 9 sqrt(3) z0).
 """
 
 from __future__ import annotations
@@ -91,7 +91,7 @@ class DugdaleAdhesion:
         return xp.where(gap < self.h0, -self.sigma0, 0.0)
 
     def tabor_parameter(self, radius: float, effective_modulus: float) -> float:
-        """mu_T = (R dgamma^2 / (E*^2 z0^3))^(1/3) (SPEC 5 corrects Paper A Eq. 1).
+        """mu_T = (R dgamma^2 / (E*^2 z0^3))^(1/3) (the square on dgamma that Paper A Eq. 1 omits).
 
         Parameters
         ----------

@@ -3,7 +3,7 @@
 An isotherm gives the thickness ``e`` (m) of the water film adsorbed on a *flat* surface of a
 body in equilibrium with vapour at relative humidity RH (Paper B Fig. 7, after Asay and Kim
 2005; Paper C Sec. 4). Its inverse ``RH_iso(e)`` defines the disjoining pressure of the film
-(SPEC 6)::
+::
 
     Pi(e) = -(R_g T / V) ln RH_iso(e)        (Pa; > 0, decreasing in e)
 
@@ -11,7 +11,7 @@ because on a flat the liquid pressure under the free surface, ``-Pi(e)``, must e
 Kelvin pressure ``(R_g T / V) ln RH``. ``Pi`` is what stops a film from draining off the peaks
 in the levelling problem (:mod:`tribobem.interactions.films`).
 
-Shipped isotherms (APPROXIMATE, SPEC 6; shape of Asay and Kim 2005 and Verdaguer et al. 2007,
+Shipped isotherms (APPROXIMATE; shape of Asay and Kim 2005 and Verdaguer et al. 2007,
 matching Paper C's 0.9 nm on SiO2 and 0.6 nm on Si at 35 % RH; the thesis prints no table):
 
 ======  ====  ====  ====  ====  ====  ====  ====  ====  ====  ====  ====  ====
@@ -215,7 +215,7 @@ class Isotherm(ABC):
         return g, dg
 
     def disjoining_pressure(self, e, water: Water = _DEFAULT_WATER):
-        """Disjoining pressure Pi(e) = -(R_g T / V) ln RH_iso(e), in Pa (SPEC 6).
+        """Disjoining pressure Pi(e) = -(R_g T / V) ln RH_iso(e), in Pa.
 
         Parameters
         ----------
@@ -506,7 +506,7 @@ class DryIsotherm(Isotherm):
 
 
 # ----------------------------------------------------------------------------- shipped defaults
-#: The SPEC 6 SiO2 table: (RH, thickness in m). APPROXIMATE (shape of Asay and Kim 2005).
+#: The shipped SiO2 table: (RH, thickness in m). APPROXIMATE (shape of Asay and Kim 2005).
 SIO2_TABLE = (
     (0.0, 0.10, 0.20, 0.30, 0.35, 0.40, 0.50, 0.60, 0.70, 0.80, 0.90, 0.95),
     tuple(v * 1e-9 for v in (0.0, 0.30, 0.55, 0.80, 0.90, 0.95, 1.05, 1.20, 1.35, 1.60, 2.00, 2.60)),
@@ -522,7 +522,7 @@ _NAMED = {"sio2": SIO2, "si": SI}
 
 
 def isotherm_from_spec(spec, field: str = "film.isotherm") -> Isotherm:
-    """Build an isotherm from a scenario value (SPEC 9.1 ``film = { isotherm = ... }``).
+    """Build an isotherm from a scenario value (file-contract ``film = { isotherm = ... }``).
 
     Parameters
     ----------

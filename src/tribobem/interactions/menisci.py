@@ -1,7 +1,7 @@
 """Micro-meniscus islands at a rough interface with adsorbed water films (Paper B 2.2).
 
 Paper B locates the areas that carry the capillary (Laplace) pressure in three steps
-(SPEC 6):
+:
 
 1. Cut the gap at the meniscus height (Paper B Eq. 9, with the films added)::
 
@@ -188,7 +188,7 @@ def _merge_periodic(labels: np.ndarray, n: int, connectivity: int) -> tuple[np.n
 def meniscus_islands(gap, film1, film2, kelvin_radius: float, contact, *, contact_angles=(0.0, 0.0),
                      critical_distance: float = CRITICAL_DISTANCE, periodic: bool = True,
                      connectivity: int = 4) -> Islands:
-    """Locate the meniscus islands of a gap field (Paper B 2.2; SPEC 6).
+    """Locate the meniscus islands of a gap field (Paper B 2.2).
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 """Van der Waals stresses between solids with adsorbed water films (Paper B 2.3, Paper C).
 
-Sign convention (SPEC 1): a stress is negative when tensile, so an attraction is NEGATIVE
+Sign convention: a stress is negative when tensile, so an attraction is NEGATIVE
 here.  Paper C prints the water-filled term with a plus sign (Eq. 8); Paper B (Eq. 11) and
 this module write it with a minus.
 

@@ -6,10 +6,10 @@ mean curvature set by the Kelvin equation (thesis Eq. A.25, Paper B Eq. 5, Paper
     r_k = gamma V / (R_g T ln RH)                       (m)
     dP_cap = gamma / r_k = R_g T ln RH / V              (Pa, thesis Eq. A.26, Paper B Eq. 10)
 
-with ``ln`` the natural logarithm and RH a fraction in (0, 1]. Sign convention (SPEC 1 and 6):
+with ``ln`` the natural logarithm and RH a fraction in (0, 1]. Sign convention:
 for RH < 1, ``ln RH < 0`` so ``r_k < 0`` (the meniscus is concave: it curves *into* the
 liquid) and ``dP_cap < 0`` is tensile (the liquid pulls the bodies together). The thesis
-writes the left side of A.25 as ``(1/r1 - 1/r2)^-1`` and A.28 with the opposite sign; SPEC 6
+writes the left side of A.25 as ``(1/r1 - 1/r2)^-1`` and A.28 with the opposite sign
 fixes it: wherever a *length* is meant (the meniscus height ``2 |r_k|`` of Paper B Eq. 9) the
 absolute value ``|r_k|`` is used.
 
@@ -35,7 +35,7 @@ GAS_CONSTANT = 8.314462618
 
 #: Diameter of a water molecule (m), about 0.28 nm (the O-O distance in liquid water, or
 #: (V / N_A)^(1/3) = 0.31 nm from the molar volume). Paper B takes the critical film-to-film
-#: distance as three molecule diameters: d_cr = 3 x 0.28 nm = 0.84 nm (SPEC 6 default).
+#: distance as three molecule diameters: d_cr = 3 x 0.28 nm = 0.84 nm (default).
 WATER_MOLECULE_DIAMETER = 0.28e-9
 
 
@@ -87,7 +87,7 @@ def _positive(value, field: str, unit: str) -> float:
 
 @dataclass(frozen=True)
 class Water:
-    """Liquid water in equilibrium with its vapour (SPEC 6 defaults).
+    """Liquid water in equilibrium with its vapour (defaults).
 
     Parameters
     ----------
@@ -150,7 +150,7 @@ class Water:
 
         The same number as :meth:`capillary_pressure`: the chemical potential of water,
         R_g T ln RH, per molar volume. It is the right side of the film equilibrium
-        ``-gamma lap(h_w) - Pi(e) = (R_g T / V) ln RH`` (SPEC 6).  It has its own name because
+        ``-gamma lap(h_w) - Pi(e) = (R_g T / V) ln RH``.  It has its own name because
         the film solvers use it as a chemical potential, not as a meniscus pressure.
 
         Parameters
@@ -176,7 +176,7 @@ class Water:
         Returns
         -------
         float or ndarray
-            r_k in m: negative for RH < 1 (concave meniscus; use ``abs`` for a length, SPEC 6)
+            r_k in m: negative for RH < 1 (concave meniscus; use ``abs`` for a length)
             and ``-inf`` at RH = 1 (flat meniscus). About -0.77 nm at RH = 0.5.
         """
         rh = check_rh(rh)

@@ -268,7 +268,7 @@ def _category(ds, i: int, h0: float | None) -> np.ndarray:
     labels = np.asarray(ds["island_labels"].values[i])
     active = np.asarray(ds["island_active"].values[i]).astype(bool) if "island_active" in ds else labels > 0
     gap = np.asarray(ds["gap"].values[i])
-    # the Dugdale zone wins over the meniscus (SPEC 6 precedence); "adhesive" in fields.nc is
+    # the Dugdale zone wins over the meniscus (the precedence of the capillary law); "adhesive" in fields.nc is
     # every tensile node outside contact, which the water-solid terms make nearly all of them
     adhesive = (gap < h0) & ~contact if h0 else np.zeros(contact.shape, dtype=bool)
     men = np.asarray(ds["meniscus"].values[i]).astype(bool) & ~contact & ~adhesive
@@ -301,7 +301,7 @@ def meniscus_figure(ds, steps, path, h0: float | None = None) -> Path | None:
         The PNG file to write.
     h0 : float, optional
         The Dugdale range (m) when the run has one: its zone is drawn over the meniscus (the
-        solver's precedence, SPEC 6).
+        solver's precedence).
 
     Returns
     -------

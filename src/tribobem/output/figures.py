@@ -846,7 +846,7 @@ def _smooth(summary: dict) -> bool:
 
 
 def mindlin_reference(summary: dict) -> dict | None:
-    """The Mindlin-Deresiewicz loop of the run (SPEC 7), when it applies: smooth bodies with
+    """The Mindlin-Deresiewicz loop of the run, when it applies: smooth bodies with
     no normal-tangential coupling (identical materials, or beta = 0), a peak force below
     mu F0+, F0+ and the compressive contact area of the start row known.
 

@@ -1,4 +1,4 @@
-"""summary.json: the scalar results of a run (SPEC 9.1 file contract), written atomically.
+"""summary.json: the scalar results of a run (file contract), written atomically.
 
 Keys every version writes: ``kind``, ``converged`` (all steps), ``inputs`` (the parsed
 scenario, SI), ``versions``, ``timings`` and ``steps`` (one dict per load / approach step with

@@ -1,4 +1,4 @@
-"""Run kinds: one module per kind, one registry line per kind (SPEC 12).
+"""Run kinds: one module per kind, one registry line per kind.
 
 Each ``runs/<kind>.py`` defines ``KIND``, a :class:`~tribobem.runs.kind.RunKind`: its runner,
 the scenario sections and keys it reads, its consistency rules.  The scenario schema takes its

@@ -9,7 +9,7 @@ For every RH of ``[humidity] rh`` (in the order given):
    on the active islands around the normal solver), at the scenario's ``load.force`` or
    ``load.approach``, warm-started from the previous RH.
 
-Each RH is one summary.json step with the SPEC 9.1 keys ``rh``, ``capillary_force``,
+Each RH is one summary.json step with the file-contract keys ``rh``, ``capillary_force``,
 ``solid_solid_force``, ``water_solid_force``, ``normal_force`` (the total), ``repulsive_force``,
 ``contact_area``, ``wetted_area`` (meniscus area outside contact), ``island_count`` (active
 islands), ``kelvin_radius``, ``film_thickness_1`` / ``_2`` (mean films), ``outer_iterations``

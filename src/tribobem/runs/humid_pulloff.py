@@ -19,11 +19,11 @@ For every RH of ``[humidity] rh`` (in the order given):
    control the unstable branch is followed, so this is the force-controlled jump-off force
    where the curve has one minimum).
 
-Each RH is one summary.json step: the SPEC 9.1 capillary keys of the state at pull-off
+Each RH is one summary.json step: the file-contract capillary keys of the state at pull-off
 (:func:`tribobem.runs.capillary.capillary_row`) plus ``pull_off_force``, ``pull_off_approach``,
 ``preload`` and ``unloading_steps``; its ``converged`` also requires every state of the
 unloading to have converged.  Run level: ``pull_off_force`` and ``pull_off_approach`` (lists in
-RH order, SPEC 9.1), ``preload``, ``preload_source`` and ``unloading_curves`` (per RH: approach,
+RH order, file-contract), ``preload``, ``preload_source`` and ``unloading_curves`` (per RH: approach,
 force, capillary force, contact and meniscus areas, converged, per unloading state).
 """
 

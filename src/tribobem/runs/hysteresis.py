@@ -1,8 +1,8 @@
 """Run kind ``hysteresis``: tangential force or displacement cycles (Papers E and F).
 
 ``[load] force`` is the normal force; ``[friction] path = {control, amplitude | stroke, cycles,
-steps}`` the tangential path (:func:`~tribobem.solvers.hysteresis.cycle_path`).  Rows: the SPEC
-9.1 step keys plus ``cycle``, ``branch``, ``force_ratio`` (F_x / (mu F0+ at F_x = 0)); the first
+steps}`` the tangential path (:func:`~tribobem.solvers.hysteresis.cycle_path`).  Rows: the file-contract
+step keys plus ``cycle``, ``branch``, ``force_ratio`` (F_x / (mu F0+ at F_x = 0)); the first
 row is the start (Paper E point A, F_x = 0, one-shot solve).  Run level: ``dissipated_energy``
 (loop area per cycle, J), ``dissipation_work`` (sum of q . ds per cycle, J: the same energy from
 the tractions), ``static_friction_force`` (first step without stick on the first loading branch),
@@ -100,7 +100,7 @@ def _stiffness_table(rows, run, mu, f0p, radius, k_compliance, e=(1.0, 0.0)):
             continue
         dd = float(np.interp(Ft - F0, F, D))
         k_fit = float(K(dd))
-        # Exact Mindlin-Deresiewicz branch through the same turning point (SPEC 9.1), with F0+
+        # Exact Mindlin-Deresiewicz branch through the same turning point (file-contract), with F0+
         # for P; and Paper F Eq. 6, the virgin-curve slope at the same |force|.
         try:
             k_md = float(mindlin_reloading_stiffness(Ft, Fstar, **md))

@@ -1,6 +1,6 @@
 """Run kind ``partial_slip``: tangential contact of dissimilar bodies with Coulomb friction (Paper D).
 
-Two paths (SPEC 9.1):
+Two paths (file-contract):
 
 * ``load.force`` with ``friction.tangential_forces`` (or ``tangential_displacements``): a
   tangential ramp at a fixed normal load, each step solved by the normal-tangential coupling
@@ -9,7 +9,7 @@ Two paths (SPEC 9.1):
 * ``load.forces`` (with ``slip = "incremental"``): a normal-load path with friction, the
   tangential state carried step to step; tangential forces, if given, are paired with it.
 
-Rows carry the SPEC 9.1 step keys plus ``force_ratio`` (F_t / (mu F0+)), ``stick_ratio`` and
+Rows carry the file-contract step keys plus ``force_ratio`` (F_t / (mu F0+)), ``stick_ratio`` and
 ``stick_radius_ratio`` (sqrt(A_stick / A_contact)); run level: ``friction_coefficient``,
 ``static_friction_force``, ``static_friction_ratio``, ``presliding_displacement``,
 ``gross_slip`` and the onset bracket.
@@ -28,7 +28,7 @@ from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, f
 
 __all__ = ["run", "check", "KIND"]
 
-#: Bisection of the gross-slip onset: bracket width relative to mu F0+ (SPEC 9.1 / issue).
+#: Bisection of the gross-slip onset: bracket width relative to mu F0+ (file-contract / issue).
 ONSET_TOLERANCE = 1e-3
 #: Tangential solver tolerance (traction change and complementarity residual) and coupling-loop
 #: tolerance (relative pressure change).  Measured on the Paper D ramp (96^2): the onset ratio and

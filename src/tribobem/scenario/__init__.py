@@ -1,4 +1,4 @@
-"""Scenario files: TOML -> validated model -> problem -> run (SPEC 9, file contract 9.1).
+"""Scenario files: TOML -> validated model -> problem -> run (file contract 9.1).
 
 >>> from tribobem.scenario import run_scenario
 >>> result = run_scenario("examples/hertz_free_boundary.toml", outdir="results/hertz")  # doctest: +SKIP

@@ -125,7 +125,7 @@ class Problem:
 
 @dataclass
 class HumiditySetup:
-    """What a capillary run needs beyond the elastic problem (SPEC 6, 9.1), in SI.
+    """What a capillary run needs beyond the elastic problem, in SI.
 
     Attributes
     ----------
@@ -229,7 +229,7 @@ def humidity_setup(sc: Scenario, shape1, shape2, rough1, rough2) -> HumiditySetu
         isos.append(iso)
         if body.hamaker is not None:
             hams.append(float(body.hamaker))
-        else:  # SPEC 6 defaults (approximate): silicon's for an "Si" film, else silica's
+        else:  # the shipped defaults (approximate): silicon's for an "Si" film, else silica's
             named_si = isinstance(spec, str) and spec.strip().lower() == "si"
             hams.append(HAMAKER_SI if named_si else HAMAKER_SIO2)
     for rh in hum.rh or []:

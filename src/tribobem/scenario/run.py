@@ -41,7 +41,7 @@ class RunResult:
     Attributes
     ----------
     summary : dict
-        summary.json content (SPEC 9.1 keys).
+        summary.json content (file-contract keys).
     fields : xarray.Dataset or None
         fields.nc content (dims step, x, y).
     outdir : Path or None

@@ -1,4 +1,4 @@
-"""The scenario file schema (SPEC 9.1): pydantic v2 models with strict key checking.
+"""The scenario file schema (file-contract): pydantic v2 models with strict key checking.
 
 A scenario is a TOML file (or a dict) with the sections ``[grid]``, ``[body1]``, ``[body2]``,
 ``[load]``, ``[adhesion]``, ``[friction]``, ``[humidity]``, ``[solver]`` and ``[output]``
@@ -539,7 +539,7 @@ class WavinessSpec(Section):
 class FilmSpec(Section):
     """``film`` of a body (capillary kinds): the adsorption isotherm of its water film.
 
-    ``isotherm``: ``"SiO2"`` | ``"Si"`` (the shipped approximate tables, SPEC 6) | ``"dry"`` |
+    ``isotherm``: ``"SiO2"`` | ``"Si"`` (the shipped approximate tables) | ``"dry"`` |
     ``{ rh = [...], thickness = [...] }`` (a measured table, monotone interpolation; thickness
     in m or strings with a length unit) | ``{ fhh = { a = ..., monolayer = ..., exponent = ... } }``
     (Frenkel-Halsey-Hill).  A body without ``film`` is dry.  Checked by
@@ -569,7 +569,7 @@ class BodySpec(Section):
     """``[body1]`` / ``[body2]``: ``E`` and ``nu`` (or ``rigid = true``), ``roughness``, ``shape``,
     ``texture``, ``waviness``; for the capillary kinds ``film`` (:class:`FilmSpec`; absent: a dry
     body) and ``hamaker``, the body's own Hamaker constant in vacuum (J, > 0; default: 19e-20 J
-    for a body whose film isotherm is ``"Si"``, else SiO2's 6.5e-20 J; SPEC 6, approximate).
+    for a body whose film isotherm is ``"Si"``, else SiO2's 6.5e-20 J, approximate).
 
     ==========  =====  ========  =====================================================
     key         unit   default   meaning
@@ -679,7 +679,7 @@ class AdhesionSpec(Section):
 
 
 class PathSpec(Section):
-    """``friction.path`` of a hysteresis run (SPEC 9.1, Paper E).
+    """``friction.path`` of a hysteresis run (file-contract, Paper E).
 
     ``control = "force"``: the tangential force cycles between +-F*, ``amplitude`` =
     F*/(mu F0+ at F_x = 0) in (0, 1] (default 0.999).  ``control = "displacement"``: the rigid
@@ -712,7 +712,7 @@ class PathSpec(Section):
 
 
 class FrictionSpec(Section):
-    """``[friction]`` of the tangential kinds (SPEC 9.1).
+    """``[friction]`` of the tangential kinds (file-contract).
 
     ``coefficient`` mu >= 0 (0: frictionless; required by partial_slip and hysteresis).
     partial_slip: ``tangential_forces`` (N, along ``direction``; may be negative) or
@@ -736,7 +736,7 @@ class FrictionSpec(Section):
 
 
 class HumiditySpec(Section):
-    """``[humidity]`` of the capillary kinds (SPEC 6 and 9.1; ``kind = "capillary"``, and
+    """``[humidity]`` of the capillary kinds (``kind = "capillary"``, and
     ``kind = "pulloff"`` for a humid pull-off).
 
     ``rh``: relative humidities, fractions in (0, 1] (a list, or one value), run in the order

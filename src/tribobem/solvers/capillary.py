@@ -105,7 +105,7 @@ class CapillaryResult:
     time: float = 0.0
 
     def scalars(self) -> dict:
-        """Per-step scalars (SPEC 9.1 keys), the normal solve's plus the capillary ones."""
+        """Per-step scalars (file-contract keys), the normal solve's plus the capillary ones."""
         d = self.normal.scalars()
         d.update({
             "normal_force": self.total_force,

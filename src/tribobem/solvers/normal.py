@@ -1,7 +1,7 @@
 """Normal contact: Polonsky-Keer constrained conjugate gradients, extended to Dugdale
 adhesion as in Paper A (steps 1-6), with explicit masks instead of the "-1000 sigma0" trick.
 
-The problem (Paper A Eq. 13; SPEC 4-5): find the pressure p on the grid such that
+The problem (Paper A Eq. 13): find the pressure p on the grid such that
 
 * p > floor on contact nodes (g = 0), where floor = -sigma0 with adhesion, 0 without;
 * p = s(g) on non-contact nodes, where s is the interaction's outside stress

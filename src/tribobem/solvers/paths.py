@@ -131,7 +131,7 @@ class LoadCurve:
         return float(np.sum(0.5 * (diff[1:] + diff[:-1]) * np.diff(grid)))
 
     def scalars(self) -> list[dict]:
-        """One summary.json step entry per point (SPEC 9.1 keys)."""
+        """One summary.json step entry per point (file-contract keys)."""
         return self.steps
 
 

@@ -1,6 +1,6 @@
 """Tangential contact at a given pressure: partial slip with Coulomb friction (Paper D).
 
-The problem (SPEC 7; Paper D Eqs. 7, 12-13): on the compressive contact C+ (contact nodes with
+The problem (Paper D Eqs. 7, 12-13): on the compressive contact C+ (contact nodes with
 p > 0; no shear in the adhesive zone, Paper D) find the shear q = (q_x, q_y) acting on body 1
 such that, with the slip
 

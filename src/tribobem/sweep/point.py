@@ -44,7 +44,7 @@ def extract_outputs(summary: Mapping, outputs: Iterable[str]) -> dict:
     Parameters
     ----------
     summary : mapping
-        A run summary (SPEC 9.1): run-level keys and a ``steps`` list of per-step tables.
+        A run summary (file-contract): run-level keys and a ``steps`` list of per-step tables.
         Values are in the summary's units (SI).
     outputs : iterable of str
         Names to pick: a run-level key, else the last step's.  Empty: every run-level scalar

@@ -24,7 +24,7 @@ __all__ = ["SweepSpec", "load_sweep", "SPEC_KEYS", "SCENARIO_SECTIONS"]
 #: Top-level keys of a sweep file.
 SPEC_KEYS = {"name", "description", "scenario", "base", "function", "parameters", "points",
              "outputs", "keep_runs", "scheduler", "workers"}
-#: Top-level sections of a scenario (SPEC 9.1); a dotted key must start with one of these
+#: Top-level sections of a scenario (file-contract); a dotted key must start with one of these
 #: or with a key of the base scenario.
 SCENARIO_SECTIONS = {"kind", "name", "title", "description", "grid", "body1", "body2", "load",
                      "adhesion", "friction", "humidity", "solver", "output", "path"}

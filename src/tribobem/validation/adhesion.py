@@ -15,7 +15,7 @@ Cases (:data:`CASES`)
     max(|reference|, scale), the scales being the Johnson-Greenwood units
     d = (9 pi^2 dgamma^2 R/(16 E*^2))^(1/3) and pi R dgamma, because both quantities cross zero
     along the curve.  Quick: lambda = 0.1 and 1 (force control at F = 0, displacement control at
-    0.75 x pull-off); full: the six lambdas of SPEC 5 (lambda = 5 needs a 1248^2 grid, on
+    0.75 x pull-off); full: the six lambdas of the table (lambda = 5 needs a 1248^2 grid, on
     which the cold force-controlled solve at F = pi R dgamma stalls: its force-control points
     are reached by displacement-controlled loading instead, ``force_path`` of
     :func:`maugis_dugdale_rows`).
@@ -69,7 +69,7 @@ __all__ = [
     "guduru_extrema", "guduru_path",
 ]
 
-#: The six Maugis parameters of SPEC 5.
+#: The six Maugis parameters of the validation table.
 MD_LAMBDAS = (0.1, 0.3, 0.5, 1.0, 2.0, 5.0)
 
 
@@ -155,7 +155,7 @@ class MaugisDugdaleProblem:
 def md_cells_cohesive(lam: float) -> float:
     """Cells across the cohesive zone c - a used for ``lam``: 12, but 8 for lambda >= 5.
 
-    8 cells (the SPEC minimum) keep every lambda <= 1 within 2.5% but leave lambda = 2 at
+    8 cells (the minimum asked of a resolved cohesive zone) keep every lambda <= 1 within 2.5% but leave lambda = 2 at
     3-4% on the tensile approach/force and on the pull-off (errors fall like dx/(c - a),
     first order); 12 cells bring it to 2.3%.  For lambda = 5 the cohesive zone is 1.5% of
     the contact radius and 12 cells would need a 1872^2 grid: it keeps 8 (1248^2).

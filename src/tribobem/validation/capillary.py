@@ -1,4 +1,4 @@
-"""Validation of capillary adhesion with water films (Papers B, C; SPEC 6).
+"""Validation of capillary adhesion with water films (Papers B, C).
 
 Cases
 -----

@@ -18,7 +18,7 @@ What each case runs (:data:`GATE`):
     bisinusoidal resolution check with the published 625-case table (studies); the humid
     friction cases at 64^2 (humid_friction).
 ``maugis_dugdale``, ``md_pull_off``
-    The Maugis-Dugdale table of SPEC 5: lambda = 0.1, 0.3, 0.5, 1 and 2 at their full
+    The Maugis-Dugdale table: lambda = 0.1, 0.3, 0.5, 1 and 2 at their full
     resolution (cohesive zone >= 12 cells, 15 rows each, 3 % / 5 %; pull-off 3 %), and
     lambda = 5 at :data:`MD_GATE_CELLS` cells across the cohesive zone (624^2) instead of 8
     (1248^2, where the force points need a displacement-controlled loading path: far more
@@ -65,7 +65,7 @@ _DIRECT = _direct_force_control()
 
 
 def md_gate_rows() -> list[ValidationRow]:
-    """The Maugis-Dugdale table of the gate: every lambda of SPEC 5.
+    """The Maugis-Dugdale table of the gate: every lambda of the table.
 
     Returns
     -------
@@ -90,7 +90,7 @@ def md_gate_rows() -> list[ValidationRow]:
 
 
 def md_pull_off_gate_rows() -> list[ValidationRow]:
-    """The Maugis-Dugdale pull-off of the gate: every lambda of SPEC 5.
+    """The Maugis-Dugdale pull-off of the gate: every lambda of the table.
 
     Returns
     -------

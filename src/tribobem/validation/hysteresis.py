@@ -1,11 +1,11 @@
-"""Validation of friction hysteresis (Papers E and F; SPEC 7).
+"""Validation of friction hysteresis (Papers E and F).
 
 Cases
 -----
 ``mindlin_deresiewicz``
     Two identical steel bodies (no coupling), sphere R = 10 mm, P = 10 N, mu = 0.3, free
     boundary over +-1.5a, one cycle 0 -> +Q* -> -Q* -> +Q* at Q* = 0.8 mu P with the incremental
-    slip criterion.  Against Mindlin-Deresiewicz (SPEC 7, with the corrected Eq. 2.27c): the
+    slip criterion.  Against Mindlin-Deresiewicz (with the corrected Eq. 2.27c): the
     largest displacement error over the loading, unloading and reloading branches relative to
     the branch amplitude delta* (3%), the loop energy (loop area, 5%), the stick radius at mid
     unloading and mid reloading against the counter-slip radius
@@ -33,7 +33,7 @@ __all__ = ["CASES", "mindlin_deresiewicz_delta"]
 
 
 def mindlin_deresiewicz_delta(Q, branch: str, Q_star: float, mu: float, P: float, a: float, k: float):
-    """Mindlin-Deresiewicz tangential displacement (m) on a branch (SPEC 7, corrected Eq. 2.27c).
+    """Mindlin-Deresiewicz tangential displacement (m) on a branch (corrected Eq. 2.27c).
 
     Parameters
     ----------

@@ -5,7 +5,7 @@ Cases (:data:`CASES`)
 ``hertz``
     Rigid sphere on an elastic flat, free-boundary (DC-FFT) operator, domain +-2a (Paper A 5.1).
     Contact radius, p0, approach.  Quick: 128^2 (64 cells across the contact), 3%; full:
-    512^2, 1% (SPEC 4).
+    512^2, 1%.
 ``westergaard``
     1D sinusoid on an nx x 8 periodic grid: contact fraction and maximum pressure, 1%.  Quick:
     spectral kernel at pbar = 0.3 p*; full: both periodic kernels at 0.1, 0.3, 0.7 p*.

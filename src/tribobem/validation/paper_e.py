@@ -1,4 +1,4 @@
-"""Validation of the friction hysteresis of Paper E section 3.2 (SPEC 7): qualitative facts of the
+"""Validation of the friction hysteresis of Paper E section 3.2: qualitative facts of the
 thesis and the analytic F0+, not a reproduction of its figures.
 
 Cases

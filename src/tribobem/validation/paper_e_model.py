@@ -1,5 +1,5 @@
 """Paper E section 3.2: friction hysteresis loops of a smooth rigid ball on an elastic flat with
-Dugdale adhesion (thesis Paper E Figs. 6, 7, 9; SPEC 7): the model problem, one loop and its
+Dugdale adhesion (thesis Paper E Figs. 6, 7, 9): the model problem, one loop and its
 measures.
 
 The ``paper_e`` validation case (:mod:`tribobem.validation.paper_e`) runs these loops, so they

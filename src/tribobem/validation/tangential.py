@@ -1,4 +1,4 @@
-"""Validation of the tangential (partial-slip) solvers (Paper D; SPEC 7).
+"""Validation of the tangential (partial-slip) solvers (Paper D).
 
 Cases
 -----
