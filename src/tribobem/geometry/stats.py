@@ -330,11 +330,21 @@ def acf(h, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
         iy = (np.arange(ny) + ny // 2) % ny - ny // 2
     else:
         shape = (2 * nx, 2 * ny)
-        R2 = sfft.irfft2(np.abs(sfft.rfft2(d, s=shape)) ** 2, s=shape)
-        ix = (np.arange(2 * nx) + nx) % (2 * nx) - nx
-        iy = (np.arange(2 * ny) + ny) % (2 * ny) - ny
-        pairs = np.maximum(nx - np.abs(ix), 0)[:, None] * np.maximum(ny - np.abs(iy), 0)[None, :]
-        R2 = R2 / np.maximum(pairs, 1)
+        # |X|^2 without a complex temporary, and only the lags up to half the domain kept (the
+        # bins stop at min(lx, ly)/2): about 10 grid fields at the peak instead of 30 (a 4096^2
+        # burl's problem build was bounded by this).
+        X = sfft.rfft2(d, s=shape)
+        P = np.square(X.real)
+        P += np.square(X.imag)
+        del X
+        R2 = sfft.irfft2(P, s=shape)
+        del P
+        mx, my = nx // 2, ny // 2
+        ix = np.r_[0:mx + 1, -mx:0]
+        iy = np.r_[0:my + 1, -my:0]
+        R2 = R2[np.ix_(ix % (2 * nx), iy % (2 * ny))]
+        pairs = (nx - np.abs(ix))[:, None] * (ny - np.abs(iy))[None, :]
+        R2 /= pairs
     r = np.hypot(ix[:, None] * grid.dx, iy[None, :] * grid.dy)
     rmax = 0.5 * min(grid.lx, grid.ly)
     keep = r <= rmax * (1 + 1e-12)
