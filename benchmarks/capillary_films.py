@@ -13,6 +13,12 @@ and the lowest 5 % of the nodes, and the residual. Not a test: nothing is assert
 ``python benchmarks/capillary_films.py [--n 256 --lac 0.02 --mode equilibrium --json]``;
 ``--steep`` runs a much harder, unphysically steep surface (64 nm window, 0.5 nm cells,
 rms 3 nm, L_ac 5 nm) to show the solver's behaviour when films are squeezed to the floor.
+
+Thin-film row (issue 21 item 3): ``--mode thin_film --lac 0.05 --rh 0.5 0.9 --systems closed``
+times the thin-film levelling (closed system, with the disjoining pressure so that it has a
+steady state to stop at; "Newton" is then the number of accepted ROS2 steps) on Paper B's
+surface; results in benchmarks/README.md.  Paper B's own form, without the disjoining pressure,
+is not timed: on this surface it does not finish (``film_thickness`` Notes).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Adsorbed water films on a rough surface: uniform, thin-film levelling and equilibrium (SPEC 6).
+"""Adsorbed water films on a rough surface: uniform, thin-film levelling and equilibrium.
 
 A body whose undeformed topography is ``h_s(x, y)`` (m, heights positive outward from the
 body) carries an adsorbed water film of local thickness ``e(x, y) >= 0``; its free surface is
@@ -11,7 +11,7 @@ thin-film (lubrication) equation::
 starting from the uniform film of the isotherm thickness (Eq. 6), volume conserved (Eq. 7).
 The thesis integrates it with fixed-step RK4 (Appendix B) or "adaptive RK" (Paper B), gives no
 end time and no stopping rule, and without a disjoining pressure the film on the peaks thins
-without limit: the end state depends on when one stops (SPEC 6). Hence three modes:
+without limit: the end state depends on when one stops. Hence three modes:
 
 ``"uniform"``
     the isotherm thickness everywhere (Paper B Fig. 18's comparison case).
@@ -32,7 +32,7 @@ without limit: the end state depends on when one stops (SPEC 6). Hence three mod
     ``mean_thickness``) and the right side is a Lagrange multiplier (the thesis' volume
     conservation, Eq. 7). Films come out thinner on peaks and thicker in valleys.
 
-Signs (SPEC 6). ``Pi > 0`` and ``dPi/de < 0``; ``-gamma lap(h_w) > 0`` on a peak (convex free
+Signs. ``Pi > 0`` and ``dPi/de < 0``; ``-gamma lap(h_w) > 0`` on a peak (convex free
 surface). The film equation is the stationarity condition of the convex energy
 ``int [gamma |grad h_w|^2 / 2 + W(e) - P_K e] dA`` with ``W' = -Pi`` (``W'' = -Pi' > 0``), so the
 equilibrium film is unique and its Jacobian ``gamma k^2 - Pi'(e)`` is symmetric positive
@@ -285,7 +285,7 @@ def film_thickness(
     disjoining : bool
         thin_film only: add the disjoining pressure to the liquid pressure
         (``P = -gamma lap h_w - Pi(e)``), so that the film relaxes to the closed equilibrium.
-        False is the thesis' Eq. 8: films on peaks drain without limit (SPEC 6).
+        False is the thesis' Eq. 8: films on peaks drain without limit.
     time : float, optional
         thin_film only: integrate to this physical time (s) and stop (converged once reached).
     duration : float
@@ -347,8 +347,10 @@ def film_thickness(
     the disjoining pressure, second-order) operator is implicit with the *local* mobility,
     so thick valleys and thin crests each relax at their own rate. Each stage solves
     ``(I + h B C) x = r`` by CG (``B C`` is self-adjoint in the ``C`` inner product)
-    preconditioned by the constant-mobility operator ``(1 + h mean(M) k^2 c(k))^-1`` in Fourier
-    space: the implicit constant-mobility biharmonic step of the classical IMEX schemes is
+    preconditioned by the constant-mobility operator ``(1 + h mean(M) kd^2 c(k))^-1`` in Fourier
+    space (``kd^2`` the symbol of the spectral ``-div grad`` built from first derivatives, which
+    is 0 along the Nyquist lines where ``k^2`` is not: with ``k^2`` in its place CG took ten
+    times the iterations): the implicit constant-mobility biharmonic step of the classical IMEX schemes is
     the preconditioner here, not the time step. A constant-mobility IMEX step was tried
     first and rejected: its stabilising implicit term must use the largest mobility, and a
     mode on a film thinner than that barely relaxes at long steps (amplification ->
@@ -371,7 +373,22 @@ def film_thickness(
     Without disjoining pressure on a surface rough enough to dry its crests (rms of the
     order of the film), the time steps stay short (the dry spots' neighbourhood limits
     them): 24^2 cells, rms 1.5 nm, 1 nm film: about 2300 steps to 1e-3 tau_slow. Use
-    ``time`` or a short ``duration`` there, or the equilibrium mode.
+    ``time`` or a short ``duration`` there, or the equilibrium mode. On Paper B's surface
+    (rms 5 nm, 1 nm film) this is the common case, not the exception: the water pools in the
+    valleys and about 40 % of the nodes dry within milliseconds; at 64^2 the 50000-step
+    default ends at 2e-6 tau_slow with some 1500 nodes clipped per step (so ``converged``
+    is False), and 256^2 is out of reach. The pseudo-spectral flux is not
+    positivity-preserving (integrated without the clipping the film reaches -11 times its
+    mean on the dry ridges), so no step-size control can cure it; that would take a local,
+    finite-volume flux with a positivity-preserving face mobility (issue 21 item 3).
+
+    Cost (issue 21 item 3, CPU s, shared 2-core machine): Paper B's surface (256^2, 10 um,
+    rms 5 nm, L_ac 0.5 um), SiO2, ``disjoining=True``, to the steady state: 30 s at RH 0.5
+    (43 steps, 1354 CG iterations; 208 s before the preconditioner used ``kd^2``); the
+    result agrees with ``step_tolerance=1e-6`` to 1e-9 of the mean (measured on 32^2 and
+    64^2 patches of the same statistics, 8e-9 at RH 0.9). At RH 0.9 on 256^2 it does not
+    finish in 300 s: past tens of tau_slow the stage CG iterations grow to the cap of 2000
+    (the constant-coefficient preconditioner misses the varying |Pi'| at long steps).
     """
     t_start = _time.perf_counter()
     if mode not in MODES:
@@ -623,6 +640,7 @@ def _thin_film(sp: _Spectral, hs, iso: Isotherm, water: Water, target, disjoinin
     k2 = sp.k2
     gk2 = gamma * k2
     ikx, iky = sp.ikx, sp.iky
+    kd2 = np.abs(ikx) ** 2 + np.abs(iky) ** 2
     pscale = water.pressure_scale
     pslope = float(abs(iso.disjoining_pressure_derivative(target, water))) if disjoining else 0.0
     tau_slow = levelling_time(2.0 * np.pi / sp.k_min, target, water, viscosity, pslope)
@@ -658,12 +676,16 @@ def _thin_film(sp: _Spectral, hs, iso: Isotherm, water: Water, target, disjoinin
 
         B C is self-adjoint in the C inner product (B and C symmetric, C positive definite
         on zero-mean fields), so CG runs on the SPD system (C + h C B C) x = C r, with the
-        constant-coefficient inverse 1 / (c + h mbar k^2 c^2) (c = gamma k^2 [+ mean |Pi'|],
-        mbar the mean mobility) as preconditioner.
+        constant-coefficient inverse 1 / (c + h mbar kd^2 c^2) (c = gamma k^2 [+ mean |Pi'|],
+        mbar the mean mobility) as preconditioner. kd^2 is B's own symbol for a constant
+        mobility: the squared first-derivative wavenumbers, 0 in the derivative along a
+        Nyquist line. With k^2 there instead (as before issue 21), the Nyquist modes, which B
+        does not move, got a preconditioner eigenvalue 1 / (1 + h mbar k^2 c) that vanishes
+        at long steps, and CG needed ten times the iterations (1323 against 132 at 64^2).
         """
         mbar = float(m.mean())
         c_k = gk2 + (float(dp.mean()) if dp is not None else 0.0)
-        pre = c_k + h * mbar * k2 * c_k * c_k
+        pre = c_k + h * mbar * kd2 * c_k * c_k
         pre[0, 0] = np.inf  # the zero-mean subspace
 
         def c_apply_hat(v_hat):
@@ -760,7 +782,7 @@ def _thin_film(sp: _Spectral, hs, iso: Isotherm, water: Water, target, disjoinin
                         converged = True
                         message = (f"stopped at the end time {duration:g} tau_slow (= {t:.4g} s) after {steps} "
                                    "steps: without disjoining pressure there is no steady state, the film on "
-                                   "the peaks keeps draining (SPEC 6)")
+                                   "the peaks keeps draining")
                     break
         fac = 4.0 if err == 0.0 else min(4.0, max(0.2, 0.9 / math.sqrt(err)))
         dt *= fac
