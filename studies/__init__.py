@@ -21,6 +21,10 @@ computations in :mod:`tribobem.validation.bisinusoidal` and
 - :mod:`.humid_friction`: a smooth ball on a rough SiO2 flat against RH (static friction,
   pre-sliding, K_L at A/B/C, loop energy, F_cap beside the dry case); its results table is in
   its docstring (``python -m studies.humid_friction --out DIR``).
+- :mod:`.burl_windows`: window versus whole (thesis recommendation 1): a whole rough burl
+  against 2, 5 and 10 um windows at its centre and edge, free and periodic, at the nominal
+  pressure the whole solve gives there; its table and answer are in its docstring
+  (``python -m studies.burl_windows --out DIR``).
 """
 
 from .bisinusoidal import (
