@@ -1321,6 +1321,25 @@ def loop_map_steps(ds, summary: dict, offset: int = 0) -> list[tuple[int, str]]:
     return head + rest[-(_MAX_LOOP_MAPS - len(head)):]
 
 
+def _common_map_window(ds, picks):
+    """The zoom window (x and y limits in display units, the unit's factor and label) that holds
+    the compressive, tensile and meniscus nodes of every picked state, and the largest |q| among
+    them (Pa): one window and one traction scale for a multi-panel stick/slip figure."""
+    x = np.asarray(ds["x"].values)
+    active = np.zeros((ds.sizes["x"], ds.sizes["y"]), dtype=bool)
+    for i, _ in picks:
+        comp, _s, _sl, tensile = _stickslip_masks(ds, i)
+        wet = meniscus_mask(ds, i)
+        active |= comp | tensile | (wet if wet is not None else False)
+    lf0, _ = display_unit(np.abs(x) * 2, "length")
+    xl, yl = _zoom_window(ds, active, lf0)
+    lf, ll = display_unit([max(abs(v) for v in (*xl, *yl)) * lf0 * 1.0001], "length")
+    xl, yl = tuple(v * lf0 / lf for v in xl), tuple(v * lf0 / lf for v in yl)
+    qmax = max(float(np.nanmax(np.hypot(np.nan_to_num(ds["shear_x"].values[i]),
+                                        np.nan_to_num(ds["shear_y"].values[i])))) for i, _ in picks)
+    return xl, yl, lf, ll, qmax
+
+
 def loop_stickslip_figure(ds, picks, path, *, mu=None, title=None) -> Path:
     """Stick/slip maps at Paper E's points (``picks``: (dataset step, name)), one panel each
     (up to three per row), on a common zoom and a common traction scale.
@@ -1343,18 +1362,7 @@ def loop_stickslip_figure(ds, picks, path, *, mu=None, title=None) -> Path:
     Path
         The written PNG file.
     """
-    x = np.asarray(ds["x"].values)
-    active = np.zeros((ds.sizes["x"], ds.sizes["y"]), dtype=bool)
-    for i, _ in picks:
-        comp, _s, _sl, tensile = _stickslip_masks(ds, i)
-        wet = meniscus_mask(ds, i)
-        active |= comp | tensile | (wet if wet is not None else False)
-    lf0, _ = display_unit(np.abs(x) * 2, "length")
-    xl, yl = _zoom_window(ds, active, lf0)
-    lf, ll = display_unit([max(abs(v) for v in (*xl, *yl)) * lf0 * 1.0001], "length")
-    xl, yl = tuple(v * lf0 / lf for v in xl), tuple(v * lf0 / lf for v in yl)
-    qmax = max(float(np.nanmax(np.hypot(np.nan_to_num(ds["shear_x"].values[i]),
-                                        np.nan_to_num(ds["shear_y"].values[i])))) for i, _ in picks)
+    xl, yl, lf, ll, qmax = _common_map_window(ds, picks)
     ncol = min(3, len(picks))
     nrow = -(-len(picks) // ncol)
     fig = new_figure(3.9 * ncol, 3.9 * nrow + 0.5)
@@ -1445,18 +1453,7 @@ def humid_stickslip_figure(ds, picks, path, *, mu=None) -> Path | None:
     """
     if not picks:
         return None
-    x = np.asarray(ds["x"].values)
-    active = np.zeros((ds.sizes["x"], ds.sizes["y"]), dtype=bool)
-    for i, _ in picks:
-        comp, _s, _sl, tensile = _stickslip_masks(ds, i)
-        men = meniscus_mask(ds, i)
-        active |= comp | tensile | (men if men is not None else False)
-    lf0, _ = display_unit(np.abs(x) * 2, "length")
-    xl, yl = _zoom_window(ds, active, lf0)
-    lf, ll = display_unit([max(abs(v) for v in (*xl, *yl)) * lf0 * 1.0001], "length")
-    xl, yl = tuple(v * lf0 / lf for v in xl), tuple(v * lf0 / lf for v in yl)
-    qmax = max(float(np.nanmax(np.hypot(np.nan_to_num(ds["shear_x"].values[i]),
-                                        np.nan_to_num(ds["shear_y"].values[i])))) for i, _ in picks)
+    xl, yl, lf, ll, qmax = _common_map_window(ds, picks)
     ncol = 2 if len(picks) == 4 else min(3, len(picks))
     nrow = -(-len(picks) // ncol)
     fig = new_figure(4.6 * ncol, 4.6 * nrow + 0.6)
