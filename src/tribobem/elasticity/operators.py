@@ -67,6 +67,9 @@ class ConvolutionOperator:
         Array/FFT backend the spectra live on.
     kind : str
         Human-readable description (reports, ``repr``).
+    reciprocal : bool
+        Single-component operators only: divide by the spectrum instead of multiplying (the
+        convolution with spectrum 1/K, e.g. NormCG's preconditioner, sharing K's array).
     """
 
     grid: Grid
@@ -76,6 +79,7 @@ class ConvolutionOperator:
     fft_shape: tuple[int, int]
     backend: Backend
     kind: str
+    reciprocal: bool = False
     _blocks: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -181,6 +185,12 @@ class ConvolutionOperator:
                     return self.xp.zeros_like(traction)
                 out[...] = 0.0
                 return out
+            if lean and be.blocked(self.fft_shape):
+                # Large free-boundary grids: in blocks, ~4 grid fields less at the peak.
+                if out is None:
+                    out = np.empty((nx, ny))
+                return be.convolve_padded_blocked(np.asarray(traction, dtype=float), spec, self.fft_shape,
+                                                  out=out, reciprocal=self.reciprocal)
             if lean:
                 # The spectrum and the inverse's rows in reused (per-thread) arrays of the
                 # backend, shared by every operator on it (the normal operator and its
@@ -194,14 +204,20 @@ class ConvolutionOperator:
                         bufs.clear()
                     T = bufs[("spectrum", shp)] = np.empty(shp, dtype=complex)
                 T = be.rfft2_padded(np.asarray(traction, dtype=float), self.fft_shape, out=T)
-                T *= spec
+                if self.reciprocal:
+                    T /= spec
+                else:
+                    T *= spec
                 rows = be.irfft2_rows(T, self.fft_shape, nx, out=be.rows_buffer(nx, ny, N2))
                 if out is None:
                     return np.array(rows[:, :ny])
                 out[...] = rows[:, :ny]
                 return out
             T = fwd(traction)
-            T *= spec
+            if self.reciprocal:
+                T /= spec
+            else:
+                T *= spec
             u = be.irfft2(T, s=self.fft_shape)
             u = u if self.periodic else u[:nx, :ny]
             if out is None:
