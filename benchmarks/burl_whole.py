@@ -15,7 +15,8 @@ the process's peak RSS, contact nodes, the approach and the force balance.
     python benchmarks/burl_whole.py --n 4096               # the target: <= 5 min CPU, <= 3 GB
     python benchmarks/burl_whole.py --n 1024 --coarse 0    # cold start (no coarse-grid start)
     python benchmarks/burl_whole.py --n 1024 --tracemalloc # + tracemalloc peak of the solve
-    python benchmarks/burl_whole.py --ramp                 # partial-slip ramp at 2048^2
+    python benchmarks/burl_whole.py --ramp                 # partial-slip ramp at 2048^2 (default method)
+    python benchmarks/burl_whole.py --ramp --method polonsky_keer   # the same with Polonsky-Keer
     python benchmarks/burl_whole.py --n 1024 --json out.json
 
 ``--coarse L`` passes ``coarse_levels=L`` to ``solve_normal_cg`` (default: its own choice);
@@ -52,7 +53,7 @@ def scenario(n: int, ramp: bool = False) -> dict:
     if ramp:
         sc["friction"] = {"coefficient": 0.3,
                           "tangential_forces": {"start": "0 N", "stop": "0.0075 N", "num": 11}}
-        sc["solver"] = {"tolerance": 1e-10}
+        sc["solver"] = {"tolerance": 1e-10}  # method: the caller's (default auto = normcg here)
     return sc
 
 
@@ -110,24 +111,26 @@ def child_normal(n: int, coarse, compare: bool, trace: bool) -> dict:
     return out
 
 
-def child_ramp(n: int) -> dict:
-    import numpy as np
-
+def child_ramp(n: int, method: str) -> dict:
     from tribobem.scenario import run_scenario
 
+    sc = scenario(n, ramp=True)
+    sc["solver"]["method"] = method
     c0, w0 = time.process_time(), time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        rr = run_scenario(scenario(n, ramp=True), outdir=None, progress=False, quiet=True)
+        rr = run_scenario(sc, outdir=None, progress=False, quiet=True)
     cpu, wall = time.process_time() - c0, time.perf_counter() - w0
-    summ = getattr(rr, "summary", None) or {}
-    run = summ.get("run", {}) if isinstance(summ, dict) else {}
-    steps = summ.get("steps", []) if isinstance(summ, dict) else []
-    return {"n": n, "cpu_s": cpu, "wall_s": wall, "peak_rss_gb": _rss_gb(), "steps": len(steps),
+    summ = rr.summary  # run-level values are top-level keys of summary.json
+    steps = summ["steps"]
+    return {"n": n, "method": method, "cpu_s": cpu, "wall_s": wall, "peak_rss_gb": _rss_gb(), "steps": len(steps),
+            "converged": bool(summ["converged"]),
             "iterations": [s.get("iterations") for s in steps],
-            "static_friction_ratio": run.get("static_friction_ratio"), "gross_slip": run.get("gross_slip"),
+            "coupling_iterations": [s.get("coupling_iterations") for s in steps],
+            "static_friction_ratio": summ.get("static_friction_ratio"),
+            "presliding_displacement_nm": (summ.get("presliding_displacement") or float("nan")) * 1e9,
             "contact_nodes": [s.get("contact_nodes") for s in steps][:1],
-            "ok": bool(np.isfinite(cpu))}
+            "warnings": summ.get("warnings", [])}
 
 
 def main(argv=None) -> int:
@@ -137,6 +140,7 @@ def main(argv=None) -> int:
     ap.add_argument("--compare", action="store_true", help="also solve cold and compare")
     ap.add_argument("--tracemalloc", action="store_true")
     ap.add_argument("--ramp", action="store_true", help="the partial-slip ramp at 2048^2 (or --n)")
+    ap.add_argument("--method", default="auto", help="[solver] method of the ramp (auto, normcg, polonsky_keer)")
     ap.add_argument("--threads", type=int, default=None)
     ap.add_argument("--json", default=None)
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -144,7 +148,7 @@ def main(argv=None) -> int:
 
     if a.child is not None:
         n = int(a.child)
-        out = child_ramp(n) if a.ramp else child_normal(n, a.coarse, a.compare, a.tracemalloc)
+        out = child_ramp(n, a.method) if a.ramp else child_normal(n, a.coarse, a.compare, a.tracemalloc)
         print("RESULT " + json.dumps(out))
         return 0
 
@@ -158,6 +162,7 @@ def main(argv=None) -> int:
         if a.coarse is not None:
             cmd += ["--coarse", str(a.coarse)]
         cmd += ["--compare"] * a.compare + ["--tracemalloc"] * a.tracemalloc + ["--ramp"] * a.ramp
+        cmd += ["--method", a.method]
         load0 = os.getloadavg()[0]
         proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
         line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")]

@@ -246,6 +246,12 @@ _RUN_SKIP = {"steps", "warnings", "ramp_message", "timings", "created", "inputs"
 #: the solution (forces, approach, pressure, displacement) and 4e-8 on the fitted loop law (a
 #: round-off difference that moves an iterate moves a result within the solvers' tolerances).
 RTOL = 1e-7
+#: The single-node peak pressure of the coupled kinds: their default normal solver is NormCG
+#: (no adhesion), which stops at another iterate when round-off differs, and the coupling loop
+#: accepts a pressure within its tolerance (relative, COUPLING_TOLERANCE = 1e-6); measured
+#: 1.2-1.3e-7 on two cases, every other value of every case within RTOL.
+PEAK_RTOL = 1e-6
+_PEAK_KEYS = {"steps.max_pressure"}
 
 
 def _run_strict(sc: dict, monkeypatch):
@@ -361,5 +367,6 @@ def test_run_kind_is_device_clean(name, monkeypatch):
     diffs = _compare(columns_ref, columns_got, "steps")
     run_ref = {k: v for k, v in ref.summary.items() if k not in _RUN_SKIP}
     diffs.update(_compare(run_ref, {k: got.summary.get(k) for k in run_ref}, "run"))
-    bad = {k: d for k, d in diffs.items() if d > RTOL}
+    coupled = sc.get("kind") in ("partial_slip", "hysteresis")
+    bad = {k: d for k, d in diffs.items() if d > (PEAK_RTOL if coupled and k in _PEAK_KEYS else RTOL)}
     assert not bad, f"{name}: the strict and NumPy backends differ (relative): {bad}"

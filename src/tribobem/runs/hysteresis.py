@@ -23,9 +23,10 @@ from ..analysis.loops import STIFFNESS_POINTS, fit_eq3
 from ..analytic.mindlin import mindlin_compliance_k, mindlin_reloading_stiffness, mindlin_virgin_stiffness
 from ..errors import InputError
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
-from .common import solve_kw
+from .common import normal_method, solve_kw
 from .humid_friction import meniscus_fields, run_per_rh
 from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,
+                   refuse_normcg,
                    require_elastic_body, require_friction, require_humidity)
 from .partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
 
@@ -149,7 +150,8 @@ def _run_one(pb, bar, interaction, initial, label: str):
     model = interaction if getattr(interaction, "self_consistent", False) else None
 
     solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
-                 "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE}
+                 "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE,
+                 "normal_method": normal_method(sc)}
     n_steps = max(path.steps // 4, 4) + path.cycles * 2 * (path.steps // 2)
     bar.phase(f"{label}: hysteresis steps" if label else "hysteresis steps", n_steps)
     res = hysteresis_loop(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, control=path.control,
@@ -268,6 +270,8 @@ def check(sc) -> None:
     require_elastic_body(sc)
     fr, load = require_friction(sc), sc.load
     if sc.humidity is not None:
+        refuse_normcg(sc, "with [humidity] the meniscus fixed point solves the normal problems with Polonsky-Keer")
+    if sc.humidity is not None:
         require_humidity(sc)
     if fr.path is None:
         fail("friction.path", "required for kind = 'hysteresis': e.g. { control = \"force\", "
@@ -295,7 +299,7 @@ KIND = RunKind(
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
              "presliding_displacement": "length", **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
     uses={"load": ("force",), "friction": ("coefficient", "direction", "slip", "path"),
-          "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker")},
+          "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker"), "solver": ("method",)},
     hints={"load.forces": _ONE_FORCE, "load.approach": _ONE_FORCE, "load.approaches": _ONE_FORCE,
            "friction.tangential_forces": _PATH, "friction.tangential_displacements": _PATH},
 )

@@ -249,6 +249,26 @@ class RunKind:
 
 
 # ----------------------------------------------------------------------------- rules shared by kinds
+def refuse_normcg(sc, why: str) -> None:
+    """Refuse ``[solver] method = "normcg"`` where the run's normal solves cannot use it (instead
+    of ignoring it silently).
+
+    Parameters
+    ----------
+    sc : Scenario
+        The validated scenario.
+    why : str
+        Which solves of the run stay with Polonsky-Keer, for the message.
+
+    Raises
+    ------
+    InputError
+        On ``solver.method``.
+    """
+    if sc.solver.method == "normcg":
+        fail("solver.method", f"normcg is not available here: {why}; leave method out (Polonsky-Keer)")
+
+
 def require_elastic_body(sc):
     """At least one elastic body: two rigid bodies carry no force at a prescribed load."""
     if sc.body1.rigid and sc.body2.rigid:

@@ -14,7 +14,7 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from ..solvers.normal import solve_normal
 from ..solvers.paths import approach_curve, force_curve
-from .common import approach_below_full_contact, solve_kw, step_row
+from .common import approach_below_full_contact, normal_method, solve_kw, step_row
 from .kind import RunKind, RunOutput, fail, positive_normal_load, require_elastic_body
 
 __all__ = ["run", "check", "KIND"]
@@ -40,7 +40,7 @@ def run(pb, bar) -> RunOutput:
         One step per load (and per unloading load), with the solved states for fields.nc.
     """
     sc, load = pb.scenario, pb.scenario.load
-    kw = dict(solve_kw(sc), method=sc.solver.method)
+    kw = dict(solve_kw(sc), method=normal_method(sc))
     inter = pb.interaction
     approach_below_full_contact(pb)
     run_level: dict = {}

@@ -21,9 +21,10 @@ import math
 
 from ..errors import InputError
 from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
-from .common import solve_kw
+from .common import normal_method, solve_kw
 from .humid_friction import meniscus_fields, run_per_rh
 from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,
+                   refuse_normcg,
                    require_elastic_body, require_friction, require_humidity)
 
 __all__ = ["run", "check", "KIND"]
@@ -82,7 +83,8 @@ def _run_one(pb, bar, interaction, initial, label: str):
     mu = float(fr.coefficient)
     kw = solve_kw(sc)
     solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
-                 "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE}
+                 "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE,
+                 "normal_method": normal_method(sc)}
     model = interaction if getattr(interaction, "self_consistent", False) else None
     theta = math.radians(fr.direction)
     e = (math.cos(theta), math.sin(theta))
@@ -172,6 +174,8 @@ def check(sc) -> None:
     require_elastic_body(sc)
     fr, load = require_friction(sc), sc.load
     if sc.humidity is not None:
+        refuse_normcg(sc, "with [humidity] the meniscus fixed point solves the normal problems with Polonsky-Keer")
+    if sc.humidity is not None:
         require_humidity(sc)
     if len(fr.tangential_given) > 1:
         fail("friction.tangential_displacements", "give at most one of tangential_forces (force "
@@ -210,7 +214,7 @@ KIND = RunKind(
              "zero_force_stick_ratio": "dimensionless", **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
     uses={"load": ("force", "forces"),
           "friction": ("coefficient", "tangential_forces", "tangential_displacements", "direction", "slip"),
-          "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker")},
+          "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker"), "solver": ("method",)},
     hints={"friction.path": "a partial_slip ramp is friction.tangential_forces or "
                             "friction.tangential_displacements",
            "load.approach": _APPROACH, "load.approaches": _APPROACH},

@@ -793,16 +793,18 @@ class HumiditySpec(Section):
 
 class SolverSpec(Section):
     """``[solver]``: ``tolerance``, ``max_iterations``, ``backend`` (numpy | cupy), ``kernel``
-    (spectral | influence; periodic grids only), ``method`` (polonsky_keer | normcg: the
-    normal solver of kind ``normal``; normcg, Vollebregt's preconditioned CG, needs 3-4x fewer
-    iterations on large rough contacts, but with adhesion it may settle on another valid
-    equilibrium, so the path-following kinds keep Polonsky-Keer)."""
+    (spectral | influence; periodic grids only), ``method`` (auto | polonsky_keer | normcg: the
+    normal solver of kind ``normal`` and of every coupling pass of kinds ``partial_slip`` and
+    ``hysteresis``; auto, the default, is normcg -- Vollebregt's preconditioned CG, 2-4x fewer
+    iterations on rough contacts, the same equilibrium -- without adhesion and polonsky_keer
+    with adhesion, where the non-convex problem may let normcg settle on another valid
+    equilibrium; the other kinds and humid runs solve with polonsky_keer and refuse the key)."""
 
     tolerance: Number(gt=0, lt=1) = 1e-10
     max_iterations: Int(ge=1) = 10000
     backend: Literal["numpy", "cupy"] = "numpy"
     kernel: Literal["spectral", "influence"] = "spectral"
-    method: Literal["polonsky_keer", "normcg"] = "polonsky_keer"
+    method: Literal["auto", "polonsky_keer", "normcg"] = "auto"
 
 
 class OutputSpec(Section):

@@ -103,6 +103,7 @@ def solve_coupled(
     max_iterations: int = 10000,
     max_coupling: int = 50,
     shear_on_pressure: bool = True,
+    normal_method: str = "polonsky_keer",
 ) -> CoupledResult:
     """Solve one step of the coupled normal-tangential contact problem.
 
@@ -149,6 +150,10 @@ def solve_coupled(
         False: Goodman's approximation, the shear does not act on the normal problem (one pass;
         the pressure still displaces the surfaces tangentially).  Analytic solutions such as
         Spence's self-similar stick zone are derived under it.
+    normal_method : {"polonsky_keer", "normcg"}
+        The normal solver of every pass (:func:`~tribobem.solvers.normal.solve_normal`'s
+        ``method``; ignored by a self-consistent law, which solves its own normal problem).
+        Each pass is warm-started from the last pressure either way.
 
     Returns
     -------
@@ -186,9 +191,9 @@ def solve_coupled(
             return box["state"].normal
         if contact0 is not None:
             return solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
-                                initial_pressure=warm, initial_contact=contact0, **normal_load)
+                                initial_pressure=warm, initial_contact=contact0, method=normal_method, **normal_load)
         return solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
-                            initial_pressure=warm, **normal_load)
+                            initial_pressure=warm, method=normal_method, **normal_load)
 
     shear = None
     stick = None
