@@ -183,6 +183,7 @@ def test_coupled_kinds_with_normcg_match_polonsky_keer(kind, monkeypatch):
         sc["output"] = {"fields": "none", "figures": False, "report": False}
         out[method] = run_scenario(sc, outdir=None, progress=False, quiet=True, base_dir=EXAMPLES)
         assert used and set(used) == {method}
+        assert out[method].summary["problem"]["normal_method"] == method
     a, b = out["polonsky_keer"], out["normcg"]
     assert len(a.summary["steps"]) == len(b.summary["steps"])
     keys = ["approach", "displacement_x", "tangential_force_x", "max_pressure", "stick_ratio"]

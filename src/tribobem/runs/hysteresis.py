@@ -152,6 +152,7 @@ def _run_one(pb, bar, interaction, initial, label: str):
     solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
                  "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE,
                  "normal_method": normal_method(sc)}
+    pb.info["normal_method"] = solver_kw["normal_method"]  # what method = "auto" stood for (summary "problem")
     n_steps = max(path.steps // 4, 4) + path.cycles * 2 * (path.steps // 2)
     bar.phase(f"{label}: hysteresis steps" if label else "hysteresis steps", n_steps)
     res = hysteresis_loop(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, control=path.control,

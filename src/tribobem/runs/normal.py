@@ -41,6 +41,7 @@ def run(pb, bar) -> RunOutput:
     """
     sc, load = pb.scenario, pb.scenario.load
     kw = dict(solve_kw(sc), method=normal_method(sc))
+    pb.info["normal_method"] = kw["method"]  # what [solver] method = "auto" stood for (summary "problem")
     inter = pb.interaction
     approach_below_full_contact(pb)
     run_level: dict = {}

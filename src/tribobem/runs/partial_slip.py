@@ -85,6 +85,7 @@ def _run_one(pb, bar, interaction, initial, label: str):
     solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
                  "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE,
                  "normal_method": normal_method(sc)}
+    pb.info["normal_method"] = solver_kw["normal_method"]  # what method = "auto" stood for (summary "problem")
     model = interaction if getattr(interaction, "self_consistent", False) else None
     theta = math.radians(fr.direction)
     e = (math.cos(theta), math.sin(theta))
