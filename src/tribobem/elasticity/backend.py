@@ -151,6 +151,31 @@ BLOCKED_FFT_POINTS = 2048 * 2048
 _BLOCK_POINTS = 1 << 16
 
 
+def times_spectrum(T, spec, reciprocal: bool = False):
+    """``T`` times the kernel spectrum ``spec`` in place, or divided by it (``reciprocal``: the
+    inverse operator without a second stored spectrum).
+
+    Parameters
+    ----------
+    T : array
+        Complex spectrum (or a block of columns of it), overwritten.
+    spec : array
+        Kernel spectrum of the same shape, real or complex.
+    reciprocal : bool
+        Divide instead of multiply.
+
+    Returns
+    -------
+    array
+        ``T``.
+    """
+    if reciprocal:
+        T /= spec
+    else:
+        T *= spec
+    return T
+
+
 def blocked_fft_points() -> int:
     """The padded-grid size from which free-boundary convolutions run in blocks
     (``BLOCKED_FFT_POINTS``, or env ``TRIBOBEM_BLOCKED_FFT_POINTS``).
@@ -408,10 +433,7 @@ class Backend:
             C[:m1] = S[:, j0:j0 + k]
             C[m1:] = 0.0
             _pocketfft.c2c(C, (0,), True, 0, C, w)
-            if reciprocal:
-                C /= spec[:, j0:j0 + k]
-            else:
-                C *= spec[:, j0:j0 + k]
+            times_spectrum(C, spec[:, j0:j0 + k], reciprocal)
             _pocketfft.c2c(C, (0,), False, 2, C, w)
             S[:, j0:j0 + k] = C[:m1]
         # real inverse FFT along y of the kept rows, in blocks of rows

@@ -39,7 +39,7 @@ import numpy as np
 from ..errors import InputError
 from ..grid import Grid
 from ..materials import ContactPair
-from .backend import Backend, work_buffers
+from .backend import Backend, times_spectrum, work_buffers
 from .backends import get_backend
 from .influence import composite_coefficients
 
@@ -204,20 +204,14 @@ class ConvolutionOperator:
                         bufs.clear()
                     T = bufs[("spectrum", shp)] = np.empty(shp, dtype=complex)
                 T = be.rfft2_padded(np.asarray(traction, dtype=float), self.fft_shape, out=T)
-                if self.reciprocal:
-                    T /= spec
-                else:
-                    T *= spec
+                times_spectrum(T, spec, self.reciprocal)
                 rows = be.irfft2_rows(T, self.fft_shape, nx, out=be.rows_buffer(nx, ny, N2))
                 if out is None:
                     return np.array(rows[:, :ny])
                 out[...] = rows[:, :ny]
                 return out
             T = fwd(traction)
-            if self.reciprocal:
-                T /= spec
-            else:
-                T *= spec
+            times_spectrum(T, spec, self.reciprocal)
             u = be.irfft2(T, s=self.fft_shape)
             u = u if self.periodic else u[:nx, :ny]
             if out is None:
