@@ -1,5 +1,6 @@
-"""benchmarks/gpu.py, the GPU table, without a GPU: its dry run (NumPy on both sides) runs each
-case it is given and finds the two runs identical; without CuPy it says so and exits 0."""
+"""The GPU paths without a GPU: benchmarks/gpu.py's dry run (NumPy on both sides) runs each case
+it is given and finds the two runs identical, and without CuPy it says so and exits 0; a
+scenario's backend = "cupy" on a small grid runs on NumPy and says so."""
 
 import importlib.util
 import json
@@ -33,3 +34,33 @@ def test_dry_run_table(tmp_path, capsys):
 def test_without_a_gpu_it_says_so(capsys):
     assert _module().main(["--cases", "normal_normcg"]) == 0
     assert "CuPy with a CUDA device is not available" in capsys.readouterr().out
+
+
+def _hertz(n: int) -> dict:
+    return {"kind": "normal", "grid": {"n": n, "size": "1.2 um", "periodic": False},
+            "body1": {"E": "130 GPa", "nu": 0.28}, "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "10 um"}},
+            "load": {"force": "200 uN"}, "solver": {"backend": "cupy"}}
+
+
+def test_small_grids_requested_on_cupy_run_on_numpy(monkeypatch):
+    """Below CUPY_MIN_NODES a scenario's backend = "cupy" runs on NumPy (kernel compilation would
+    cost more than the solve), and says so; TRIBOBEM_CUPY_MIN_NODES moves the limit."""
+    from tribobem.scenario import build_problem, parse_scenario
+    from tribobem.scenario.build import CUPY_MIN_NODES
+
+    assert 64 * 64 < CUPY_MIN_NODES
+    monkeypatch.delenv("TRIBOBEM_CUPY_MIN_NODES", raising=False)
+    pb = build_problem(parse_scenario(_hertz(64)))
+    assert pb.operator.backend.name == "numpy"
+    assert pb.info["backend"].startswith("numpy (cupy requested")
+
+
+@pytest.mark.skipif(cupy_available(), reason="CuPy is present: the limit would not raise")
+def test_above_the_limit_cupy_is_still_required(monkeypatch):
+    from tribobem.errors import InputError
+    from tribobem.scenario import build_problem, parse_scenario
+
+    monkeypatch.setenv("TRIBOBEM_CUPY_MIN_NODES", "0")
+    with pytest.raises(InputError, match="CuPy with a working CUDA device is not available") as exc:
+        build_problem(parse_scenario(_hertz(64)))
+    assert exc.value.field == "solver.backend"

@@ -524,6 +524,27 @@ def _sphere_radius(sc: Scenario) -> float | None:
     return 1.0 / curv if found else None
 
 
+#: ``[solver] backend = "cupy"`` on grids of fewer nodes is solved with NumPy: there the first
+#: CuPy call's kernel compilation costs more than the whole solve (measured on an H100: 21 s for
+#: the 128^2 Hertz example against 0.7 s on the CPU).  The crossover was not measured on a device
+#: (benchmarks/gpu.py does); env ``TRIBOBEM_CUPY_MIN_NODES`` overrides (0: always CuPy).
+CUPY_MIN_NODES = 256 * 256
+
+
+def _backend_for(requested: str, grid: Grid, info: dict) -> str:
+    """The array backend a scenario runs on: NumPy for ``cupy`` below ``CUPY_MIN_NODES`` nodes
+    (said in ``info["backend"]``), else the requested one."""
+    env = os.environ.get("TRIBOBEM_CUPY_MIN_NODES")
+    limit = int(env) if env else CUPY_MIN_NODES
+    if requested == "cupy" and grid.nx * grid.ny < limit:
+        info["backend"] = (f"numpy (cupy requested; grids below {limit} nodes run on NumPy, where the first "
+                           f"GPU call's kernel compilation would cost more than the solve; "
+                           f"TRIBOBEM_CUPY_MIN_NODES=0 forces cupy)")
+        return "numpy"
+    info["backend"] = requested
+    return requested
+
+
 def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     """Build the grid, materials, gap, operator and interaction of a scenario.
 
@@ -572,16 +593,17 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
 
     # Friction needs the coupled 3x3 operator (tangential and normal-tangential blocks).
     components = ("x", "y", "z") if (sc.friction is not None and sc.friction.coefficient is not None) else ("z",)
+    backend = _backend_for(sc.solver.backend, grid, info)
     try:
         if both_rigid:
             # No elasticity: the capillary solver takes operator=None (rigid bodies).
             op = None
         elif grid.periodic:
-            op = make_operator(grid, pair, components, backend=sc.solver.backend, kernel=sc.solver.kernel)
+            op = make_operator(grid, pair, components, backend=backend, kernel=sc.solver.kernel)
         else:
-            op = make_operator(grid, pair, components, backend=sc.solver.backend)
+            op = make_operator(grid, pair, components, backend=backend)
     except (ImportError, ModuleNotFoundError) as exc:
-        raise InputError("solver.backend", f"backend {sc.solver.backend!r} is not available: {exc}") from None
+        raise InputError("solver.backend", f"backend {backend!r} is not available: {exc}") from None
 
     interaction = None
     if sc.adhesion.enabled:
