@@ -20,7 +20,8 @@ def _module():
     return mod
 
 
-def test_dry_run_table(tmp_path, capsys):
+def test_dry_run_table(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("TRIBOBEM_CUPY_MIN_NODES", "0")  # the script sets it: restored after the test
     out = tmp_path / "gpu.json"
     assert _module().main(["--dry-run", "--cases", "normal_normcg", "burl", "--json", str(out)]) == 0
     data = json.loads(out.read_text())
@@ -31,7 +32,8 @@ def test_dry_run_table(tmp_path, capsys):
 
 
 @pytest.mark.skipif(cupy_available(), reason="a GPU is present: the script would measure")
-def test_without_a_gpu_it_says_so(capsys):
+def test_without_a_gpu_it_says_so(capsys, monkeypatch):
+    monkeypatch.setenv("TRIBOBEM_CUPY_MIN_NODES", "0")
     assert _module().main(["--cases", "normal_normcg"]) == 0
     assert "CuPy with a CUDA device is not available" in capsys.readouterr().out
 
