@@ -288,3 +288,14 @@ def test_stick_slip_figures_name_summary_steps_or_the_onset(tmp_path):
         if k.startswith("stickslip_step"):
             assert int(k[len("stickslip_step"):]) < n, (k, n)
     assert "the onset state" in (tmp_path / "ps" / "report.html").read_text()
+
+
+def test_report_says_which_solver_and_backend_ran(tmp_path):
+    """What ``method = "auto"`` (and the backend) stood for is in summary.json and the report."""
+    from tribobem.scenario import run_scenario
+
+    sc = _hertz_scenario(force="200 uN")
+    sc["output"] = {"fields": "none", "figures": False, "report": True}
+    rr = run_scenario(sc, outdir=tmp_path, progress=False, quiet=True)
+    assert rr.summary["problem"]["normal_method"] == "normcg" and rr.summary["problem"]["backend"] == "numpy"
+    assert "solver</th><td class='l'>normal solver normcg; backend numpy<" in (tmp_path / "report.html").read_text()

@@ -688,6 +688,11 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
         if "rms_height" in st:
             rows.append((f"{body} roughness", f"rms {format_quantity(st['rms_height'], 'length')}, rms slope "
                                               f"{st.get('rms_slope', float('nan')):.3g}"))
+    solver = [f"normal solver {prob['normal_method']}"] if prob.get("normal_method") else []
+    if prob.get("backend"):
+        solver.append(f"backend {prob['backend']}")
+    if solver:  # what [solver] method = "auto" and backend stood for
+        rows.append(("solver", "; ".join(solver)))
     t = s.get("timings", {})
     if t:
         # the report is written before the outputs are complete: their time and the total are
