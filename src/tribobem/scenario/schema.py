@@ -792,7 +792,8 @@ class HumiditySpec(Section):
 
 
 class SolverSpec(Section):
-    """``[solver]``: ``tolerance``, ``max_iterations``, ``backend`` (numpy | cupy), ``kernel``
+    """``[solver]``: ``tolerance``, ``max_iterations``, ``backend`` (numpy | cupy; cupy grids below
+    256^2 nodes run on NumPy, see ``TRIBOBEM_CUPY_MIN_NODES``), ``kernel``
     (spectral | influence; periodic grids only), ``method`` (auto | polonsky_keer | normcg: the
     normal solver of kind ``normal`` and of every coupling pass of kinds ``partial_slip`` and
     ``hysteresis``; auto, the default, is normcg -- Vollebregt's preconditioned CG, 2-4x fewer
