@@ -1,9 +1,10 @@
 """Thin-film levelling on Paper B's cells (issue 21 item 3): accuracy and volume, never speed.
 
-The speed of the integration (ROS2 stages by CG with the constant-mobility preconditioner) is
-measured by ``benchmarks/capillary_films.py --mode thin_film``; here only what it must keep:
-the volume, the result against a much tighter local-error tolerance, and the closed
-equilibrium as the steady state.
+The speed of the integration (ROS2 stages by CG, preconditioned with the constant mobility and
+the local disjoining stiffness) is measured by ``benchmarks/capillary_films.py --mode
+thin_film``; here only what it must keep: the volume, the result against a much tighter
+local-error tolerance, and the closed equilibrium as the steady state (the bound on the CG
+iterations at RH 0.9 is in ``test_thin_film_rh09.py``).
 """
 
 import numpy as np
@@ -47,12 +48,14 @@ def test_thin_film_with_disjoining_pressure_is_converged_in_the_step_tolerance(r
 
 def test_paper_b_film_levelling_comparison_quick():
     # Fig. 18's runner on the 32^2 test cell: one row per (levelling, RH), the volume-fixing
-    # levellings keep the isotherm thickness as the mean film
+    # levellings keep the isotherm thickness as the mean film; the thin-film case runs with the
+    # disjoining pressure (converged = its film reached the steady state, which Paper B's form
+    # without it would not on this surface)
     from studies import paper_b
 
     rows = paper_b.film_levelling_comparison(quick=True, rh=(0.5,))
-    assert [r["levelling"] for r in rows] == ["uniform", "equilibrium", "closed equilibrium"]
+    assert [r["levelling"] for r in rows] == ["uniform", "thin_film disjoining", "equilibrium", "closed equilibrium"]
     assert all(r["converged"] and r["capillary_force"] < 0 for r in rows)
     e_iso = SIO2.thickness(0.5)
-    assert rows[0]["film_thickness"] == pytest.approx(e_iso, rel=1e-12)
-    assert rows[2]["film_thickness"] == pytest.approx(e_iso, rel=1e-12)
+    for r in (rows[0], rows[1], rows[3]):
+        assert r["film_thickness"] == pytest.approx(e_iso, rel=1e-10)

@@ -346,12 +346,21 @@ def film_thickness(
     grad .)``, ``C = dP/de = gamma k^2 [+ |Pi'(e_n)|]``): the stiff fourth-order (and, with
     the disjoining pressure, second-order) operator is implicit with the *local* mobility,
     so thick valleys and thin crests each relax at their own rate. Each stage solves
-    ``(I + h B C) x = r`` by CG (``B C`` is self-adjoint in the ``C`` inner product)
-    preconditioned by the constant-mobility operator ``(1 + h mean(M) kd^2 c(k))^-1`` in Fourier
-    space (``kd^2`` the symbol of the spectral ``-div grad`` built from first derivatives, which
-    is 0 along the Nyquist lines where ``k^2`` is not: with ``k^2`` in its place CG took ten
-    times the iterations): the implicit constant-mobility biharmonic step of the classical IMEX schemes is
-    the preconditioner here, not the time step. A constant-mobility IMEX step was tried
+    ``(I + h B C) x = r`` by CG on ``(C + h C B C) x = C r`` (``B C`` is self-adjoint in the
+    ``C`` inner product), preconditioned by ``Ct^-1 (c^-1 + h mean(M) kd^2)^-1 Ct^-1`` with
+    ``c = gamma k^2 + d`` (``d`` the harmonic mean of the disjoining stiffness
+    ``D = |Pi'(e_n)|``; ``kd^2`` the symbol of the spectral ``-div grad`` built from first
+    derivatives, which is 0 along the Nyquist lines where ``k^2`` is not: with ``k^2`` in its
+    place CG took ten times the iterations) and ``Ct^-1`` the equilibrium solver's block
+    approximation of ``C^-1``: ``1 / D`` on the nodes with ``D >= gamma k_max^2``, the
+    FFT-diagonal ``(gamma k^2 + d_soft)^-1`` on the others. The variable ``D`` has to be in
+    the outer factors: ``B`` differentiates its variation, so at long steps ``C B C`` is far
+    from ``d^2 B`` in the long waves, and the constant-coefficient inverse
+    ``(c + h mean(M) kd^2 c^2)^-1`` let CG grow with the step, to its cap of 2000 a stage on
+    Paper B's 256^2 surface at RH 0.9 (``stage_solve`` docstring). Without the disjoining
+    pressure it is that inverse with ``c = gamma k^2``: the implicit constant-mobility
+    biharmonic step of the classical IMEX schemes is the preconditioner
+    here, not the time step. A constant-mobility IMEX step was tried
     first and rejected: its stabilising implicit term must use the largest mobility, and a
     mode on a film thinner than that barely relaxes at long steps (amplification ->
     1 - M/M_max), so draining films forced steps of the fastest time scale of the valleys
@@ -382,13 +391,15 @@ def film_thickness(
     mean on the dry ridges), so no step-size control can cure it; that would take a local,
     finite-volume flux with a positivity-preserving face mobility (issue 21 item 3).
 
-    Cost (issue 21 item 3, CPU s, shared 2-core machine): Paper B's surface (256^2, 10 um,
-    rms 5 nm, L_ac 0.5 um), SiO2, ``disjoining=True``, to the steady state: 30 s at RH 0.5
-    (43 steps, 1354 CG iterations; 208 s before the preconditioner used ``kd^2``); the
-    result agrees with ``step_tolerance=1e-6`` to 1e-9 of the mean (measured on 32^2 and
-    64^2 patches of the same statistics, 8e-9 at RH 0.9). At RH 0.9 on 256^2 it does not
-    finish in 300 s: past tens of tau_slow the stage CG iterations grow to the cap of 2000
-    (the constant-coefficient preconditioner misses the varying |Pi'| at long steps).
+    Cost (issue 21 item 3, CPU s, ``time.process_time``, shared 2-core machine, load 3):
+    Paper B's surface (256^2, 10 um, rms 5 nm, L_ac 0.5 um), SiO2, ``disjoining=True``, to
+    the steady state: 3.5 s at RH 0.5 (43 steps, 323 CG iterations) and 14 s at RH 0.9 (103
+    steps, 1452 CG iterations). With the constant-coefficient preconditioner the same steps
+    took 1358 and 21900 CG iterations (8.8 s and 130 s), and with BLAS inner products in the
+    CG as well (:func:`_pcg`) 30-42 s at RH 0.5 and more than 300 s at RH 0.9. RH 0.99 (the
+    film varies by 1.3 times its mean; some nodes are soft) is the slow case: 290 s at 256^2
+    (410 steps, 42861 CG iterations), 37 s at 128^2. The result agrees with
+    ``step_tolerance=1e-6`` to 3e-9 (RH 0.5) and 5e-9 (RH 0.9) of the mean thickness.
     """
     t_start = _time.perf_counter()
     if mode not in MODES:
@@ -483,25 +494,36 @@ def film_thickness(
 
 
 # ----------------------------------------------------------------------------- equilibrium
+def _dot(a, b) -> float:
+    """Sum of ``a * b`` over all nodes, single-threaded (see :func:`_pcg`)."""
+    return float(np.einsum("ij,ij->", a, b))
+
+
 def _pcg(apply, precond, b, rtol, maxiter):
-    """Preconditioned conjugate gradients for SPD ``apply``; returns (x, iterations)."""
+    """Preconditioned conjugate gradients for SPD ``apply``; returns (x, iterations).
+
+    The inner products are ``einsum`` sums, not BLAS ``vdot`` / ``norm``: multithreaded BLAS
+    on a grid-sized vector costs microseconds on an idle machine but milliseconds when the
+    cores are shared (its threads wait for a time slice), and it was then half of the CPU
+    time of the thin-film stage solves at 128^2 (issue 21 item 3).
+    """
     x = np.zeros_like(b)
     r = b.copy()
     z = precond(r)
     p = z.copy()
-    rz = float(np.vdot(r, z))
-    bnorm = float(np.linalg.norm(b))
+    rz = _dot(r, z)
+    bnorm = math.sqrt(_dot(b, b))
     if bnorm == 0.0:
         return x, 0
     for it in range(1, maxiter + 1):
         ap = apply(p)
-        alpha = rz / float(np.vdot(p, ap))
+        alpha = rz / _dot(p, ap)
         x += alpha * p
         r -= alpha * ap
-        if np.linalg.norm(r) <= rtol * bnorm:
+        if math.sqrt(_dot(r, r)) <= rtol * bnorm:
             return x, it
         z = precond(r)
-        rz_new = float(np.vdot(r, z))
+        rz_new = _dot(r, z)
         p = z + (rz_new / rz) * p
         rz = rz_new
     return x, maxiter
@@ -641,6 +663,7 @@ def _thin_film(sp: _Spectral, hs, iso: Isotherm, water: Water, target, disjoinin
     gk2 = gamma * k2
     ikx, iky = sp.ikx, sp.iky
     kd2 = np.abs(ikx) ** 2 + np.abs(iky) ** 2
+    gk2_max = float(gk2.max())
     pscale = water.pressure_scale
     pslope = float(abs(iso.disjoining_pressure_derivative(target, water))) if disjoining else 0.0
     tau_slow = levelling_time(2.0 * np.pi / sp.k_min, target, water, viscosity, pslope)
@@ -672,26 +695,67 @@ def _thin_film(sp: _Spectral, hs, iso: Isotherm, water: Water, target, disjoinin
         return sp.irfft(div_m_grad(m, p_hat))
 
     def stage_solve(m, dp, h, r):
-        """Solve (I + h B C) x = r, B = -div(m grad .), C = dP/de = gamma k^2 [+ |Pi'|].
+        """Solve (I + h B C) x = r, B = -div(m grad .), C = dP/de = gamma k^2 [+ D], D = |Pi'(e)|.
 
         B C is self-adjoint in the C inner product (B and C symmetric, C positive definite
-        on zero-mean fields), so CG runs on the SPD system (C + h C B C) x = C r, with the
-        constant-coefficient inverse 1 / (c + h mbar kd^2 c^2) (c = gamma k^2 [+ mean |Pi'|],
-        mbar the mean mobility) as preconditioner. kd^2 is B's own symbol for a constant
-        mobility: the squared first-derivative wavenumbers, 0 in the derivative along a
-        Nyquist line. With k^2 there instead (as before issue 21), the Nyquist modes, which B
-        does not move, got a preconditioner eigenvalue 1 / (1 + h mbar k^2 c) that vanishes
-        at long steps, and CG needed ten times the iterations (1323 against 132 at 64^2).
+        on zero-mean fields), so CG runs on the SPD system A x = (C + h C B C) x = C r on the
+        zero-mean fields. Preconditioner: A = C (C^-1 + h B) C, so A^-1 = C^-1 (C^-1 + h B)^-1
+        C^-1, approximated as
+
+            M^-1 = P Ct^-1 K Ct^-1 P,   K = c / (1 + h mbar kd^2 c),  c = gamma k^2 + d,
+
+        P the projection on zero mean, d the harmonic mean of D, mbar the mean mobility, kd^2
+        B's own symbol for a constant mobility (the squared first-derivative wavenumbers, 0 in
+        the derivative along a Nyquist line; with k^2 there, as before issue 21, CG needed ten
+        times the iterations), and Ct^-1 the equilibrium solver's block approximation of C^-1:
+        1 / D on the nodes whose disjoining stiffness exceeds the largest Laplacian eigenvalue
+        (D >= gamma k_max^2: there C is within a factor 2 of its diagonal D), the FFT-diagonal
+        (gamma k^2 + d_s)^-1 on the others (d_s the harmonic mean of their D). The variable D
+        must sit in the *outer* factors: C B C is not spectrally equivalent to d^2 B, because B
+        differentiates the variation of D (|grad (D v)|^2 against d^2 |grad v|^2 for a smooth v), so the
+        constant-coefficient inverse 1 / (c + h mbar kd^2 c^2) of issue 21's first version
+        missed the long waves more the more h B C dominated: on Paper B's 256^2 surface at RH
+        0.9 (D is 40 gamma k_max^2 there) its stage CG grew to the cap of 2000 beyond tens of
+        tau_slow, 21900 iterations in all, against at most 23 a stage (1452 in all) now. For a
+        uniform film M^-1 is A^-1 with C^-1 replaced by 1 / D (stiff nodes: gamma k^2 / D <= 1
+        neglected) or exactly A^-1 (soft nodes); without the disjoining pressure it is the
+        constant-mobility inverse 1 / (gamma k^2 + h mbar kd^2 gamma^2 k^4). Tried and not
+        kept: the scaling D^-1/2 F^-1[d / (gamma k^2 + d)] F D^-1/2 for Ct^-1 on every node
+        (3.3 times the iterations of this one on 0.5 nm cells, where gamma k_max^2 > D), and
+        MINRES on the block system [[-C, I], [I, h B]] with constant-coefficient blocks
+        (bounded too, but 1.7-3.8 times the iterations, each about 15 % cheaper).
         """
         mbar = float(m.mean())
-        c_k = gk2 + (float(dp.mean()) if dp is not None else 0.0)
-        pre = c_k + h * mbar * kd2 * c_k * c_k
-        pre[0, 0] = np.inf  # the zero-mean subspace
+        if dp is None:
+            pre = gk2 + h * mbar * kd2 * gk2 * gk2
+            pre[0, 0] = np.inf  # the zero-mean subspace
 
-        def c_apply_hat(v_hat):
-            if dp is None:
+            def c_apply_hat(v_hat):
                 return gk2 * v_hat
-            return sp.rfft(sp.irfft(gk2 * v_hat) + dp * sp.irfft(v_hat))
+
+            def precond(res):
+                return sp.irfft(sp.rfft(res) / pre)
+        else:
+            # harmonic means: K approximates (C^-1 + h B)^-1, whose C^-1 is ~ 1 / D
+            d = 1.0 / float(np.mean(1.0 / dp))
+            c_k = gk2 + d
+            kk = c_k / (1.0 + h * mbar * kd2 * c_k)
+            kk[0, 0] = 0.0  # the constants are outside the zero-mean subspace
+            stiff = dp >= gk2_max
+            soft = (~stiff).astype(float)
+            inv_stiff = np.where(stiff, 1.0 / dp, 0.0)
+            filt = 1.0 / (gk2 + (1.0 / float(np.mean(1.0 / dp[~stiff])) if np.any(~stiff) else d))
+
+            def c_apply_hat(v_hat):
+                return sp.rfft(sp.irfft(gk2 * v_hat) + dp * sp.irfft(v_hat))
+
+            def c_inv(v):
+                # block-diagonal (stiff / soft nodes) and symmetric: a valid CG preconditioner
+                return inv_stiff * v + soft * sp.irfft(filt * sp.rfft(soft * v))
+
+            def precond(res):
+                z = c_inv(sp.irfft(kk * sp.rfft(c_inv(res - res.mean()))))
+                return z - z.mean()
 
         def h_apply(v):
             cv_hat = c_apply_hat(sp.rfft(v))
@@ -699,9 +763,6 @@ def _thin_film(sp: _Spectral, hs, iso: Isotherm, water: Water, target, disjoinin
             out_hat = cv_hat + h * c_apply_hat(bcv_hat)
             out_hat[0, 0] = 0.0
             return sp.irfft(out_hat)
-
-        def precond(res):
-            return sp.irfft(sp.rfft(res) / pre)
 
         rhs = sp.irfft(c_apply_hat(sp.rfft(r)))
         rhs -= rhs.mean()
