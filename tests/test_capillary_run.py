@@ -102,6 +102,9 @@ def test_spec_91_capillary_keys_parse_to_si():
     (lambda d: d["humidity"].update(contact_angles=[0.0, 190.0]), "humidity.contact_angles[1]", ["[0, 180]"]),
     (lambda d: d["humidity"].update(levelling="thin_film", film_system="open"), "humidity.film_system",
      ["closed"]),
+    (lambda d: d["humidity"].update(disjoining=True), "humidity.disjoining", ["levelling = 'thin_film'"]),
+    (lambda d: d["humidity"].update(levelling="thin_film", film_system=None, disjoining="yes"),
+     "humidity.disjoining", ["true or false"]),
     (lambda d: d["humidity"].update(critical_distance="-1 nm"), "humidity.critical_distance", [">= 0"]),
     (lambda d: d["humidity"].update(isotherm="SiO2"), "humidity.isotherm", ["unknown key"]),
     (lambda d: d["load"].update(force=None, forces=["1 uN", "2 uN"]), "load.forces", ["one load"]),
@@ -343,3 +346,41 @@ def test_capillary_approach_beyond_full_contact_of_a_periodic_cell_is_refused():
     with pytest.raises(InputError) as exc:
         run_scenario(sc, progress=False)
     assert exc.value.field == "load.approach" and "full contact of the periodic cell" in str(exc.value)
+
+
+def test_thin_film_with_disjoining_pressure_ends_on_the_closed_equilibrium():
+    """``disjoining = true``: the thin-film levelling of a run stops at its steady state (the
+    summary's film and capillary force those of the closed equilibrium), where Paper B's form
+    without it has none."""
+    from tribobem.interactions.films import film_thickness
+    from tribobem.scenario.build import build_problem
+
+    base = {
+        "kind": "capillary", "name": "thin film with disjoining pressure",
+        "grid": {"n": 32, "size": "1.25 um", "periodic": True},
+        "body1": {"E": "70 GPa", "nu": 0.17, "film": {"isotherm": "SiO2"},
+                  "roughness": {"kind": "gaussian", "rms": "5 nm", "seed": 1,
+                                "correlation_length": "0.5 um"}},
+        "body2": {"rigid": True},
+        "load": {"force": "1 uN"},
+        "humidity": {"rh": [0.5], "van_der_waals": False},
+        "output": {"fields": "none", "figures": False, "report": False},
+    }
+    runs = {}
+    for label, hum in (("thin", {"levelling": "thin_film", "disjoining": True}),
+                       ("closed", {"levelling": "equilibrium", "film_system": "closed"})):
+        sc = {**base, "humidity": {**base["humidity"], **hum}}
+        runs[label] = run_scenario(sc, progress=False, quiet=True).summary
+        assert runs[label]["converged"] is True
+    pb = build_problem(parse_scenario({**base, "humidity": {**base["humidity"], "levelling": "thin_film",
+                                                              "disjoining": True}}))
+    hs = pb.humidity
+    assert hs.disjoining is True and pb.info["humidity"]["disjoining"] is True
+    thin = film_thickness(hs.surface1, pb.grid, hs.isotherm1, 0.5, hs.water, mode="thin_film", disjoining=True)
+    closed = film_thickness(hs.surface1, pb.grid, hs.isotherm1, 0.5, hs.water, mode="equilibrium", system="closed")
+    assert thin.converged and "steady" in thin.message
+    # the steady state is the closed equilibrium, up to the grid's Nyquist pressure mode
+    assert abs(thin.thickness - closed.thickness).max() < 1e-3 * closed.mean_thickness
+    s_thin, s_closed = runs["thin"]["steps"][0], runs["closed"]["steps"][0]
+    assert s_thin["film_thickness_1"] == pytest.approx(s_closed["film_thickness_1"], rel=1e-12)
+    assert s_thin["capillary_force"] == pytest.approx(s_closed["capillary_force"], rel=1e-3)

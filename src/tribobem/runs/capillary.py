@@ -79,7 +79,7 @@ def films_at(pb, rh: float, tol: float = 1e-10):
     for surface, iso in ((hs.surface1, hs.isotherm1), (hs.surface2, hs.isotherm2)):
         out.append(film_thickness(surface, pb.grid, iso, rh, hs.water, mode=hs.levelling,
                                   system=None if hs.levelling == "uniform" else hs.system,
-                                  tol=max(tol, 1e-12)))
+                                  disjoining=hs.disjoining, tol=max(tol, 1e-12)))
     return out[0], out[1]
 
 

@@ -148,6 +148,8 @@ class HumiditySetup:
         ``"equilibrium"``, ``"thin_film"`` or ``"uniform"``.
     system : str
         ``"open"`` or ``"closed"``.
+    disjoining : bool
+        Thin-film levelling with the disjoining pressure (``humidity.disjoining``).
     contact_angles : tuple of float
         theta1, theta2 in radians.
     critical_distance : float
@@ -172,6 +174,7 @@ class HumiditySetup:
     water_hamaker: float
     levelling: str
     system: str
+    disjoining: bool
     contact_angles: tuple
     critical_distance: float
     cutoff: float
@@ -185,6 +188,7 @@ class HumiditySetup:
             "molar_volume": self.water.molar_volume, "isotherm1": self.isotherm1.name,
             "isotherm2": self.isotherm2.name, "hamaker1": self.hamaker1, "hamaker2": self.hamaker2,
             "water_hamaker": self.water_hamaker, "levelling": self.levelling, "film_system": self.system,
+            "disjoining": self.disjoining,
             "contact_angles_deg": [math.degrees(a) for a in self.contact_angles],
             "critical_distance": self.critical_distance, "cutoff": self.cutoff,
             "contribution": self.contribution, "van_der_waals": self.van_der_waals,
@@ -257,7 +261,7 @@ def humidity_setup(sc: Scenario, shape1, shape2, rough1, rough2) -> HumiditySetu
         rh=list(hum.rh or []), water=water, isotherm1=isos[0], isotherm2=isos[1],
         surface1=np.asarray(rough1 - shape1, dtype=float), surface2=np.asarray(rough2 - shape2, dtype=float),
         hamaker1=hams[0], hamaker2=hams[1], water_hamaker=float(hum.water_hamaker), levelling=hum.levelling,
-        system=hum.system, contact_angles=tuple(math.radians(a) for a in hum.contact_angles),
+        system=hum.system, disjoining=bool(hum.disjoining), contact_angles=tuple(math.radians(a) for a in hum.contact_angles),
         critical_distance=float(hum.critical_distance), cutoff=cutoff, contribution=hum.contribution,
         van_der_waals=bool(hum.van_der_waals))
 

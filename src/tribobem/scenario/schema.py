@@ -746,7 +746,11 @@ class HumiditySpec(Section):
     ``thin_film``, Paper B Eq. 8; ``uniform``, the isotherm thickness everywhere, Paper B
     Fig. 18), ``film_system``: ``open`` (RH fixes the chemical potential; the default of the
     equilibrium) or ``closed`` (the mean thickness fixed to the isotherm's; the only choice of
-    the volume-conserving thin-film mode, its default).  ``contact_angles``: theta1, theta2 in
+    the volume-conserving thin-film mode, its default).  ``disjoining`` (thin_film only, default
+    false): add the isotherm's disjoining pressure to the liquid pressure of the thin-film
+    equation, so that the film relaxes to the closed equilibrium and the integration stops at
+    its steady state; false is Paper B's Eq. 8 as written, whose film drains off the peaks
+    without an end state.  ``contact_angles``: theta1, theta2 in
     degrees, in [0, 180] (Paper B Eq. 9; default 0, 0).  ``cutoff`` (m, > 0): the short-range
     cut-off of the 1/g^3 van der Waals terms without a Dugdale zone (default: ``adhesion.z0``
     when given, else 0.3 nm).  ``critical_distance`` (m, >= 0): a film-to-film air gap below it
@@ -764,6 +768,7 @@ class HumiditySpec(Section):
     molar_volume: Quantity("molar_volume", gt=0) = 18.05e-6
     levelling: Literal["equilibrium", "thin_film", "uniform"] = "equilibrium"
     film_system: Optional[Literal["open", "closed"]] = None
+    disjoining: StrictBool = False
     contact_angles: Annotated[list[Angle()], Field(min_length=2, max_length=2)] = Field(default_factory=lambda: [0.0, 0.0])
     cutoff: Optional[Quantity("length", gt=0)] = None
     critical_distance: Quantity("length", ge=0) = 0.84e-9
@@ -779,6 +784,9 @@ class HumiditySpec(Section):
         if self.levelling == "thin_film" and self.film_system == "open":
             _fail("film_system", "levelling = 'thin_film' conserves the film volume: it is a closed system "
                                  "(give film_system = 'closed' or leave it out)")
+        if self.disjoining and self.levelling != "thin_film":
+            _fail("disjoining", f"adds the disjoining pressure to the thin-film equation: it needs levelling = "
+                                f"'thin_film', not {self.levelling!r} (the equilibrium films include it already)")
         if self.rh is not None and len(self.rh) == 0:
             _fail("rh", "needs at least one relative humidity in (0, 1]")
         return self
