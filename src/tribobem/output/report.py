@@ -357,7 +357,9 @@ def _humidity_rows(hum: dict) -> list:
                   f"{format_quantity(hum.get('surface_tension'), 'surface_tension', 4)}, V = "
                   f"{hum.get('molar_volume', float('nan')) * 1e6:.4g} cm³/mol"),
         ("films (isotherms)", f"body 1: {hum.get('isotherm1')}, body 2: {hum.get('isotherm2')}; levelling "
-                              f"{hum.get('levelling')} ({hum.get('film_system')} system), on the undeformed topographies"),
+                              f"{hum.get('levelling')} ({hum.get('film_system')} system"
+                              f"{', with the disjoining pressure' if hum.get('disjoining') else ''}), "
+                              "on the undeformed topographies"),
         ("Hamaker constants", f"body 1 {hum.get('hamaker1', float('nan')):.3g} J, "
                               f"body 2 {hum.get('hamaker2', float('nan')):.3g} J, "
                               f"water {hum.get('water_hamaker', float('nan')):.3g} J; van der Waals "
