@@ -36,7 +36,7 @@ from ..errors import ConvergenceWarning
 from ..interactions.films import film_thickness
 from ..interactions.menisci import contribution_coefficient
 from ..solvers.capillary import solve_capillary
-from .common import approach_below_full_contact, solve_kw
+from .common import approach_below_full_contact, normal_method, solve_kw
 from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_elastic_body, require_humidity
 
 __all__ = ["run", "check", "KIND", "films_at", "capillary_options", "capillary_row", "step_maps", "STEP_FIELDS"]
@@ -98,7 +98,8 @@ def capillary_options(pb, rh: float) -> dict:
     -------
     dict
         Kelvin radius (m), capillary pressure (Pa), contribution coefficient, adhesion law,
-        Hamaker constants (J), contact angles (rad), critical distance and cutoff (m), periodicity.
+        Hamaker constants (J), contact angles (rad), critical distance and cutoff (m), periodicity,
+        the normal solver (``[solver] method``; auto is Polonsky-Keer with ``[humidity]``).
     """
     hs = pb.humidity
     water = hs.water
@@ -114,6 +115,7 @@ def capillary_options(pb, rh: float) -> dict:
         "critical_distance": hs.critical_distance,
         "cutoff": hs.cutoff,
         "periodic": pb.grid.periodic,
+        "normal_method": normal_method(pb.scenario),
     }
 
 
@@ -304,7 +306,7 @@ KIND = RunKind(
     figures=("capillary", "maps"), report_sections=("capillary",),
     results={"peak_capillary_force": "force", "peak_capillary_rh": "dimensionless", **CAPILLARY_STEPS},
     uses={"load": ("force", "approach"), "humidity": ALL, "body1": ("film", "hamaker"),
-          "body2": ("film", "hamaker")},
+          "body2": ("film", "hamaker"), "solver": ("method",)},
     hints={"friction": "kind = 'capillary' is frictionless; leave [friction] out",
            "load.forces": "kind = 'capillary' takes one load, held at every RH: force (N) or approach (m)",
            "load.approaches": "kind = 'capillary' takes one load, held at every RH: force (N) or approach (m)",

@@ -26,7 +26,6 @@ from ..solvers.hysteresis import hysteresis_loop, loop_energies
 from .common import normal_method, solve_kw
 from .humid_friction import meniscus_fields, run_per_rh
 from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,
-                   refuse_normcg,
                    require_elastic_body, require_friction, require_humidity)
 from .partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
 
@@ -270,8 +269,6 @@ def check(sc) -> None:
     """
     require_elastic_body(sc)
     fr, load = require_friction(sc), sc.load
-    if sc.humidity is not None:
-        refuse_normcg(sc, "with [humidity] the meniscus fixed point solves the normal problems with Polonsky-Keer")
     if sc.humidity is not None:
         require_humidity(sc)
     if fr.path is None:

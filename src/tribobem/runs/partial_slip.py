@@ -24,7 +24,6 @@ from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ram
 from .common import normal_method, solve_kw
 from .humid_friction import meniscus_fields, run_per_rh
 from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,
-                   refuse_normcg,
                    require_elastic_body, require_friction, require_humidity)
 
 __all__ = ["run", "check", "KIND"]
@@ -174,8 +173,6 @@ def check(sc) -> None:
     """
     require_elastic_body(sc)
     fr, load = require_friction(sc), sc.load
-    if sc.humidity is not None:
-        refuse_normcg(sc, "with [humidity] the meniscus fixed point solves the normal problems with Polonsky-Keer")
     if sc.humidity is not None:
         require_humidity(sc)
     if len(fr.tangential_given) > 1:

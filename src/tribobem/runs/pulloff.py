@@ -21,7 +21,8 @@ from ..output.checks import cohesive_cells
 from ..solvers.paths import approach_curve, pull_off
 from .common import curve_from_rows, offset_progress, solve_kw
 from .humid_pulloff import run as humid_run
-from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_elastic_body, require_humidity
+from .kind import (ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, refuse_normcg, require_elastic_body,
+                   require_humidity)
 
 __all__ = ["run", "check", "KIND"]
 
@@ -134,6 +135,8 @@ def check(sc) -> None:
             if key in getattr(sc, body).model_fields_set:
                 fail(f"{body}.{key}", "used by a humid pull-off only (kind = 'pulloff' with a [humidity] "
                                       "section); this pull-off is dry")
+    refuse_normcg(sc, "the dry pull-off path solves its Dugdale states with Polonsky-Keer (normcg applies to "
+                      "the humid pull-off, kind = 'pulloff' with [humidity])")
     if not sc.adhesion.enabled:
         fail("adhesion.model", "kind = 'pulloff' needs adhesion: model = 'dugdale' with "
                                "work_of_adhesion and z0 (or a [humidity] section: a humid pull-off)")
@@ -145,7 +148,8 @@ KIND = RunKind(
     figures=("load_curve", "capillary", "maps"), report_sections=("capillary",),
     results={"pull_off_force": "force", "pull_off_approach": "length", "preload": "force",
              "hysteresis_energy": "energy", **CAPILLARY_STEPS},
-    uses={"load": _DRY_LOAD, "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker")},
+    uses={"load": _DRY_LOAD, "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker"),
+          "solver": ("method",)},
     hints={"friction": "a pull-off is frictionless; leave [friction] out",
            **{f"load.{k}": "a pull-off unloads from load.preload (a compressive force; left out: from the "
                            "adhesive equilibrium at zero external load)"

@@ -803,11 +803,15 @@ class SolverSpec(Section):
     """``[solver]``: ``tolerance``, ``max_iterations``, ``backend`` (numpy | cupy; cupy grids below
     256^2 nodes run on NumPy, see ``TRIBOBEM_CUPY_MIN_NODES``), ``kernel``
     (spectral | influence; periodic grids only), ``method`` (auto | polonsky_keer | normcg: the
-    normal solver of kind ``normal`` and of every coupling pass of kinds ``partial_slip`` and
-    ``hysteresis``; auto, the default, is normcg -- Vollebregt's preconditioned CG, 2-4x fewer
-    iterations on rough contacts, the same equilibrium -- without adhesion and polonsky_keer
-    with adhesion, where the non-convex problem may let normcg settle on another valid
-    equilibrium; the other kinds and humid runs solve with polonsky_keer and refuse the key)."""
+    normal solver of kind ``normal``, of every coupling pass of kinds ``partial_slip`` and
+    ``hysteresis``, and of the meniscus fixed point of the humid runs (``capillary``, and
+    ``pulloff``, ``partial_slip``, ``hysteresis`` with ``[humidity]``); auto, the default, is
+    normcg -- Vollebregt's preconditioned CG, 2-4x fewer iterations on rough contacts, the same
+    equilibrium -- without adhesion and without ``[humidity]``, polonsky_keer otherwise, where the
+    non-convex problem may let normcg settle on another valid equilibrium (give normcg to use it
+    there: on a rough burl with menisci it is as fast at 96^2, 2.5x faster at 192^2, and at 384^2
+    takes 142 s where polonsky_keer had not finished after 65 min); the dry pull-off solves
+    with polonsky_keer and refuses normcg)."""
 
     tolerance: Number(gt=0, lt=1) = 1e-10
     max_iterations: Int(ge=1) = 10000

@@ -375,7 +375,7 @@ def solve_capillary(operator, gap, *, normal_force: float | None = None, approac
                     cutoff: float | None = None, contribution: float = 1.0, periodic: bool | None = None,
                     connectivity: int = 4, grid: Grid | None = None, tol: float = 1e-10, max_outer: int = 50,
                     max_iterations: int = 10000, initial=None, edge_width: float = 0.2,
-                    strict: bool = False) -> CapillaryResult:
+                    normal_method: str = "polonsky_keer", strict: bool = False) -> CapillaryResult:
     """Normal contact with meniscus islands, self-consistent in the islands (Paper B Fig. 6).
 
     Parameters
@@ -426,6 +426,11 @@ def solve_capillary(operator, gap, *, normal_force: float | None = None, approac
     edge_width : float
         Width of the Dugdale-edge ramp as a fraction of h0 (see
         :class:`~tribobem.interactions.capillary.CapillaryInteraction`).
+    normal_method : {"polonsky_keer", "normcg"}
+        The solver of each normal solve of the island fixed point
+        (:func:`~tribobem.solvers.normal.solve_normal`'s ``method``).  Both reach equilibria of
+        the same discrete problem; with a Dugdale zone they may settle on different ones (the
+        adhesive problem is not unique), so forces differ at the level of the grid.
     strict : bool
         Raise :class:`~tribobem.errors.ConvergenceError` instead of warning.
 
@@ -505,7 +510,7 @@ def solve_capillary(operator, gap, *, normal_force: float | None = None, approac
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
             res = solve_normal(operator, h, interaction=inter, tol=tol, max_iterations=max_iterations,
-                               initial_pressure=box["warm"], **load)
+                               initial_pressure=box["warm"], method=normal_method, **load)
         box["warm"] = res
         return (res, inter), islands_of(res.gap, res.contact)
 
