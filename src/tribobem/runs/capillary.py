@@ -227,6 +227,7 @@ def run(pb, bar) -> RunOutput:
     sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
     approach_below_full_contact(pb)
     kw = solve_kw(sc)
+    pb.info["normal_method"] = normal_method(sc)  # the solver of the islands' normal solves (summary "problem")
     relief = float(np.ptp(pb.gap))
     n = len(hs.rh)
     bar.phase("RH steps", n)

@@ -37,7 +37,7 @@ import numpy as np
 from ..errors import ConvergenceWarning, InputError
 from ..solvers.capillary import solve_capillary
 from .capillary import STEP_FIELDS, capillary_options, capillary_row, films_at, step_maps
-from .common import solve_kw
+from .common import normal_method, solve_kw
 from .kind import RunOutput
 
 __all__ = ["run", "humid_pull_off"]
@@ -194,6 +194,7 @@ def run(pb, bar) -> RunOutput:
     """
     sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
     kw = solve_kw(sc)
+    pb.info["normal_method"] = normal_method(sc)  # the solver of the islands' normal solves (summary "problem")
     relief = float(np.ptp(pb.gap))
     n = len(hs.rh)
     bar.phase("humid pull-off (RH)", n)

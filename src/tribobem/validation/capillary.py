@@ -24,6 +24,16 @@ Cases
     1e-8; contact + capillary + solid-solid + water-solid = total, 1e-10), F_cap = dP_cap x
     wetted area (1e-12) and self-consistency of the islands (islands of the final gap = the
     islands of the final solve: 0 differing nodes).
+``capillary_force_balance_normcg``
+    The same with NormCG as the normal solver of the island fixed point
+    (``[solver] method = "normcg"``): the same balances and tolerances.
+``thin_film_levelling``
+    The thin-film equation with the disjoining pressure (closed system) on a periodic cosine
+    surface h_s = a cos(k x), a = 1e-3 e0 (e0 the SiO2 isotherm thickness at RH 0.5), wavelength
+    2 pi times the healing length sqrt(gamma / |Pi'(e0)|), integrated to its steady state: the
+    film's first harmonic against the linear theory e1 = -a gamma k^2 / (gamma k^2 + |Pi'(e0)|)
+    = -a / 2 (2e-3: the second-order terms in a / e0), and the mean thickness against e0 (the
+    volume; 1e-10).
 """
 
 from __future__ import annotations
@@ -40,6 +50,7 @@ from ..errors import ConvergenceWarning
 from ..geometry.shapes import sphere
 from ..grid import Grid
 from ..interactions.dugdale import DugdaleAdhesion
+from ..interactions.films import film_thickness
 from ..interactions.isotherms import SIO2
 from ..interactions.menisci import meniscus_islands
 from ..interactions.water import Water
@@ -118,8 +129,9 @@ def sphere_flat_rows(quick: bool = True) -> list[ValidationRow]:
     return rows
 
 
-def force_balance_rows(quick: bool = True) -> list[ValidationRow]:
-    """Rows of ``capillary_force_balance`` (module docstring)."""
+def force_balance_rows(quick: bool = True, normal_method: str = "polonsky_keer") -> list[ValidationRow]:
+    """Rows of ``capillary_force_balance`` (module docstring); ``normal_method``: the normal
+    solver of the island fixed point (``capillary_force_balance_normcg`` runs NormCG)."""
     water = Water()
     rh, F0, R = 0.5, 1e-6, 1e-6
     e = float(SIO2.thickness(rh))
@@ -130,8 +142,8 @@ def force_balance_rows(quick: bool = True) -> list[ValidationRow]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         r = solve_capillary(op, h, normal_force=F0, film1=e, film2=e, kelvin_radius=rk, capillary_pressure=dp,
-                            adhesion=DugdaleAdhesion(0.05, 0.3e-9))
-    case = "capillary_force_balance 128^2"
+                            adhesion=DugdaleAdhesion(0.05, 0.3e-9), normal_method=normal_method)
+    case = "capillary_force_balance 128^2" + (", NormCG" if normal_method == "normcg" else "")
     total = r.total_force if r.converged else math.nan
     parts = r.contact_force + r.capillary_force + r.solid_solid_force + r.water_solid_force
     again = meniscus_islands(r.normal.gap, e, e, rk, r.normal.contact, periodic=False)
@@ -145,7 +157,32 @@ def force_balance_rows(quick: bool = True) -> list[ValidationRow]:
     ]
 
 
+def thin_film_rows(quick: bool = True) -> list[ValidationRow]:
+    """Rows of ``thin_film_levelling`` (module docstring)."""
+    water, rh = Water(), 0.5
+    e0 = float(SIO2.thickness(rh))
+    stiffness = abs(float(SIO2.disjoining_pressure_derivative(e0, water)))
+    gamma = water.surface_tension
+    k = math.sqrt(stiffness / gamma)  # wavelength 2 pi x the healing length: e1 = -a / 2
+    n = 32
+    grid = Grid.square(n, 2.0 * math.pi / k, periodic=True)
+    x = np.arange(n) * grid.dx
+    a = 1e-3 * e0
+    hs = np.repeat((a * np.cos(k * x))[:, None], n, axis=1)
+    f = film_thickness(hs, grid, SIO2, rh, water, mode="thin_film", disjoining=True)
+    e = f.thickness[:, 0]
+    e1 = 2.0 * float(np.mean((e - e.mean()) * np.cos(k * x))) if f.converged else math.nan
+    e1_ref = -a * gamma * k * k / (gamma * k * k + stiffness)
+    case = "thin_film_levelling cos surface, RH 0.5, 32^2"
+    return [
+        _row(case, "film amplitude e1 vs -a gamma k^2 / (gamma k^2 + |Pi'|) (m)", e1_ref, e1, 2e-3),
+        _row(case, "mean film thickness = isotherm thickness (volume, m)", e0, f.mean_thickness, 1e-10),
+    ]
+
+
 CASES: dict[str, Callable[[bool], list[ValidationRow]]] = {
     "sphere_flat_capillary": sphere_flat_rows,
     "capillary_force_balance": force_balance_rows,
+    "capillary_force_balance_normcg": lambda quick=True: force_balance_rows(quick, "normcg"),
+    "thin_film_levelling": thin_film_rows,
 }
