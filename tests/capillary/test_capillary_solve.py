@@ -353,8 +353,10 @@ def test_bad_input_is_named(sphere128, kwargs, field):
 def test_validation_cases_registered_and_passing():
     from tribobem.validation import CASES, PHYSICS_CASES, run_validation
 
-    assert PHYSICS_CASES["capillary"] == ("sphere_flat_capillary", "capillary_force_balance")
-    assert {"sphere_flat_capillary", "capillary_force_balance"} <= set(CASES)
+    names = ("sphere_flat_capillary", "capillary_force_balance", "capillary_force_balance_normcg",
+             "thin_film_levelling")
+    assert PHYSICS_CASES["capillary"] == names
+    assert set(names) <= set(CASES)
     rows = run_validation(level="quick", physics=["capillary"])
     assert rows and all(r.passed for r in rows), [r for r in rows if not r.passed]
     info = [r for r in rows if math.isinf(r.tolerance)]
