@@ -23,6 +23,12 @@ from dataclasses import dataclass
 
 from ..errors import ConvergenceError, ConvergenceWarning
 
+#: Both normal solvers defer a smooth change of the outside stresses (no node changes piece of
+#: the law) while their relative pressure change exceeds this multiple of the change's relative
+#: mismatch (benchmarks/README.md): applied at every iteration, it restarts Polonsky-Keer's CG
+#: and keeps NormCG's from settling.
+DEFER_RATIO = 10.0
+
 __all__ = ["IterationOutcome", "IterativeSolver", "dot", "report_failure", "run_iterations"]
 
 

@@ -60,7 +60,7 @@ from ..elasticity.operators import ConvolutionOperator
 from ..errors import InputError
 from ..interactions.base import NoInteraction
 from ..results import NormalResult
-from .iteration import IterativeSolver, dot, run_iterations
+from .iteration import DEFER_RATIO, IterativeSolver, dot, run_iterations
 from .normal_problem import normal_problem, normal_result
 
 #: Largest number of nodes whose pressure may change outside the CG step (leavers, entering
@@ -238,7 +238,6 @@ class _CGState(IterativeSolver):
         self.branch_fn = getattr(inter, "outside_branch", None) if self.has_outside else None
         self.branch = None
         self.out_error = 0.0  # relative mismatch of deferred smooth outside stresses
-        self.defer_ratio = 10.0  # apply once the CG change is within 10x the outside mismatch (benchmarks/README.md)
         # W = 0: no outside stress, floor 0 and no pressure outside the contact (a warm start
         # may bring some); then a rescale needs no W and status changes can be sparse.
         self.w_zero = (not self.has_outside and floor == 0.0
@@ -417,7 +416,7 @@ class _CGState(IterativeSolver):
             xp.abs(work, out=work)
             norm = float(xp.abs(p).sum())
             self.out_error = float(work.sum()) / norm if norm > 0 else float(work.sum())
-            defer = self.error > self.defer_ratio * self.out_error
+            defer = self.error > DEFER_RATIO * self.out_error
         changed = any_overlap or (out_changed and not defer) or not all_stay
         if changed:
             self.out_error = 0.0  # the rebuild below applies every outside stress

@@ -40,7 +40,7 @@ Method (Vollebregt, J. Comput. Phys. 257 (2014) 333-351, "BCCG+" as in CONTACT's
 * **Smooth laws** (a law whose ``outside_branch`` says which piece a node is on, e.g. the
   capillary law with its edge ramps): a change of the outside stresses that moves no node to
   another piece is deferred while the CG on the frozen load still makes progress (the relative
-  pressure change above ``DEFER_RATIO`` times the relative mismatch), as Polonsky-Keer does;
+  pressure change above ``iteration.DEFER_RATIO`` times the relative mismatch), as Polonsky-Keer does;
   convergence needs the mismatch below ``tol``.  Applied at every iteration, on a rough burl
   with menisci on hundreds of spots, the updates never settled (every solve unconverged).
 
@@ -75,16 +75,13 @@ from ..elasticity.operators import ConvolutionOperator
 from ..errors import InputError
 from ..interactions.base import NoInteraction
 from ..results import NormalResult
-from .iteration import IterativeSolver, dot, run_iterations
+from .iteration import DEFER_RATIO, IterativeSolver, dot, run_iterations
 from .normal_problem import normal_problem, normal_result
 
 __all__ = ["solve_normal_cg", "fft_preconditioner"]
 
 #: Coarse-grid start (``coarse_levels=None``): halve the grid while the coarser one keeps at
 #: least this many nodes, at most ``_COARSE_MAX_LEVELS`` times; its tolerance.
-#: A smooth change of the outside stresses waits while the relative pressure change exceeds
-#: this multiple of its relative mismatch (Polonsky-Keer's rule, :mod:`.normal`).
-DEFER_RATIO = 10.0
 _COARSE_MIN_NODES = 256 * 256
 _COARSE_MAX_LEVELS = 3
 _COARSE_TOL = 1e-4
