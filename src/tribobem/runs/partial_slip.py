@@ -5,7 +5,7 @@ Two paths (file-contract):
 * ``load.force`` with ``friction.tangential_forces`` (or ``tangential_displacements``): a
   tangential ramp at a fixed normal load, each step solved by the normal-tangential coupling
   loop; a ramp that reaches gross slip ends there (a result, not an error) and the gross-slip
-  onset is refined by bisection to 1e-3 x mu F0+;
+  onset is bracketed to 1e-3 x mu F0+ (:func:`~tribobem.solvers.slip_paths.tangential_ramp`);
 * ``load.forces`` (with ``slip = "incremental"``): a normal-load path with friction, the
   tangential state carried step to step; tangential forces, if given, are paired with it.
 

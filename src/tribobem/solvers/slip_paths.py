@@ -3,8 +3,10 @@
 * :func:`tangential_ramp`: a tangential force (or displacement) ramp at a fixed normal load,
   each step solved by the coupling loop (Paper D).  The ramp ends at gross slip (no stick node
   left, or a force beyond mu F0+): that is a result, not an error.  The gross-slip onset is
-  then located by bisection between the last step with stick and the first without, to
-  ``refine_tol`` x mu F0+ (not the first listed step whose stick area is zero).
+  then bracketed between the last step with stick and the first without, to ``refine_tol`` x
+  mu F0+ (not the first listed step whose stick area is zero), by :func:`_locate_onset`: an
+  extrapolation of the friction still unused in the stick zone (:func:`unused_friction`) to
+  zero, with a bisection safeguard.
 * :func:`normal_path`: a normal-load path with friction and the incremental slip criterion
   (Paper E Eq. 5): the relative displacement of each step is the reference of the next, so
   the history of the tangential state is carried (Spence's self-similar stick zone under
@@ -93,7 +95,7 @@ class SlipRamp:
         The ramp reached gross slip.
     onset : float
         Tangential force (N) at the gross-slip onset (NaN when not reached), the midpoint of the
-        final bisection bracket.
+        final bracket.
     onset_bracket : tuple of float
         (last value with stick, first value without) after refinement.
     onset_ratio : float
@@ -164,9 +166,10 @@ def tangential_ramp(
     interaction : Interaction, optional
     slip : {"total", "incremental"}
     refine_tol : float
-        Bisection of the gross-slip onset until the bracket is below refine_tol x mu F0+ (force
+        Refine the bracket of the gross-slip onset until it is below refine_tol x mu F0+ (force
         control) or refine_tol x the last step's displacement (displacement control).
     max_refine : int
+        At most this many refinement solves.
     progress : callable, optional
         ``progress(done, total)``.
     initial : CoupledResult, optional
@@ -236,29 +239,25 @@ def tangential_ramp(
                 failed_value = v
                 ramp.message = f"gross slip at step {k} ({control} {v:.6g}): no stick node left"
                 break
-            last_stick = (v, res, prev)
+            last_stick = (v, res, prev, ramp.values[-2] if len(ramp.values) >= 2 else None)
             older, prev = prev, res
         ramp.zero_state = zero if zero is not None else (ramp.steps[0] if ramp.steps else None)
         if ramp.gross_slip and last_stick is not None and failed_value is not None:
-            lo, lo_res, lo_prev = last_stick
+            lo, lo_res, lo_prev, prev_value = last_stick
             hi = failed_value
-            n_ref = 0
-            scale = (mu * lo_res.normal.repulsive_force) if control == "force" else max(abs(hi), 1e-300)
-            while abs(hi - lo) > refine_tol * scale and n_ref < max_refine:
-                mid = 0.5 * (lo + hi)
-                base = lo_res if slip == "total" else lo_prev
+            base = lo_res if slip == "total" else lo_prev
+
+            def probe(value):
                 try:
-                    res = solve(mid, lo_res, ref_of(base) if slip == "incremental" else None)
-                    is_gross = res.tangential.gross_slip
+                    res = solve(value, lo_res, ref_of(base) if slip == "incremental" else None)
                 except GrossSlipError:
-                    is_gross, res = True, None
-                n_ref += 1
-                if is_gross:
-                    hi = mid
-                else:
-                    lo, lo_res = mid, res
-                    if control == "force":
-                        scale = mu * lo_res.normal.repulsive_force
+                    return True, None
+                return bool(res.tangential.gross_slip), res
+
+            scale = (mu * lo_res.normal.repulsive_force) if control == "force" else max(abs(hi), 1e-300)
+            before = (prev_value, lo_prev) if prev_value is not None and lo_prev is not None else None
+            lo, hi, lo_res, n_ref = _locate_onset(probe, lo, hi, lo_res, before, refine_tol, scale, max_refine,
+                                                  control == "force", mu)
             ramp.refine_steps = n_ref
             ramp.onset_bracket = (lo, hi)
             ramp.onset_state = lo_res
@@ -270,10 +269,124 @@ def tangential_ramp(
             ramp.onset_ratio = ramp.onset / (mu * lo_res.normal.repulsive_force) if mu > 0 else float("nan")
             if ramp.zero_state is not None:
                 ramp.presliding_displacement = _along(lo_res, e, "displacement") - _along(ramp.zero_state, e, "displacement")
-            ramp.message += f"; onset located to {abs(hi - lo):.3g} after {n_ref} bisection steps"
+            ramp.message += f"; onset located to {abs(hi - lo):.3g} after {n_ref} refinement solves"
         elif ramp.gross_slip and failed_value is not None and not ramp.steps:
             ramp.message += " (the first step already slips grossly: no onset bracket)"
     return ramp
+
+
+def unused_friction(res: CoupledResult) -> float:
+    """The friction still unused in the stick zone, as a fraction of mu F0+ (dimensionless).
+
+    sum over the stick nodes of (mu p - |q|), over the sum of mu p on the compressive contact
+    nodes; 0 without stick.  It falls to 0 continuously as the last stick node reaches its
+    friction disc, i.e. at the gross-slip onset.  For Cattaneo-Mindlin it is (c/a)^3 (1 - ...) =
+    1 - Q/(mu P), linear in the force; on a rough burl (256^2-512^2) the linear extrapolation from
+    the ramp's last two steps lands within 1e-3 mu F0+ of the onset, which is what
+    :func:`_locate_onset` uses.
+    """
+    t = res.tangential
+    if not bool(np.any(t.stick)):
+        return 0.0
+    p = np.asarray(res.normal.pressure)
+    mu = t.friction_coefficient
+    c = np.asarray(t.contact) & (p > 0)
+    st = np.asarray(t.stick)
+    q = np.hypot(t.shear[0][st], t.shear[1][st])
+    return float(np.sum(mu * p[st] - q)) / max(float(mu * np.sum(p[c])), 1e-300)
+
+
+def _locate_onset(probe, lo, hi, lo_res, before, refine_tol, scale, max_refine, force_control, mu):
+    """Shrink the bracket [lo, hi] of the gross-slip onset below ``refine_tol`` x ``scale``.
+
+    ``probe(value)`` solves a state and returns (gross, result); ``before`` is (value, result) of
+    the state before ``lo_res`` on the ramp, or None.  The onset is estimated by extrapolating
+    :func:`unused_friction` linearly to 0 from the two nearest states with stick, and the probe
+    goes 0.45 of the required width beyond the estimate: above it after a state with stick,
+    below it after one without, so that an estimate good to 0.45 of the width closes the
+    bracket in two solves.  A bisection when there is no estimate inside the bracket, when a
+    probe below the estimate had no stick (the estimate is too high), or when the last three
+    probes did not halve the bracket.
+
+    Returns (lo, hi, lo_res, number of probes).
+    """
+    pts = [(lo, unused_friction(lo_res))]
+    if before is not None and before[0] < lo and not before[1].tangential.gross_slip:
+        pts.insert(0, (before[0], unused_friction(before[1])))
+    n_ref = 0
+    widths = [hi - lo]
+    side = 1.0  # the next probe: above (+1) or below (-1) the estimate
+    overshot = False
+    # Probes on a dyadic grid of the first bracket, 1/16 of the required width or finer: states
+    # that differ by round-off (e.g. mirrored bodies) make the same probes, as a bisection does.
+    lo0, w0 = lo, hi - lo
+    cell = w0 / 2.0 ** max(math.ceil(math.log2(16.0 * w0 / max(refine_tol * scale, 1e-300))), 1)
+    while True:
+        if force_control:
+            scale = mu * lo_res.normal.repulsive_force
+        need = refine_tol * scale
+        w = hi - lo
+        if w <= need or n_ref >= max_refine:
+            break
+        est = _extrapolate_onset(pts)
+        value = est + side * 0.45 * need if est is not None else float("nan")
+        usable = lo < value < hi  # (False for NaN)
+        stalled = len(widths) >= 4 and w > 0.5 * widths[-4]  # three probes without halving it
+        below = usable and side < 0
+        if not usable or stalled or overshot or w <= 2.0 * need:
+            value, below = 0.5 * (lo + hi), False
+        value = lo0 + round((value - lo0) / cell) * cell
+        value = min(max(value, lo + cell), hi - cell)
+        gross, res = probe(value)
+        n_ref += 1
+        # a probe below the estimate without stick: the estimate is too high, bisect next
+        overshot = gross and below
+        if gross:
+            hi, side = value, -1.0
+        else:
+            lo, lo_res, side = value, res, 1.0
+            pts.append((value, unused_friction(res)))
+        widths.append(hi - lo)
+    return lo, hi, lo_res, n_ref
+
+
+def _extrapolate_onset(pts):
+    """The force at which the unused friction G reaches 0, from the last states with stick.
+
+    G = C (F* - F)^p through the last three points (p = 1 for Cattaneo-Mindlin; the last stick
+    nodes of a rough contact give p up to ~1.5: G falls more slowly near the onset), else the
+    straight line (p = 1) through the last two (also when the three points ask for p < 1, as far
+    from the onset).  None without two usable points.
+    """
+    if len(pts) < 2:
+        return None
+    (x1, y1), (x2, y2) = pts[-2], pts[-1]
+    if not (x2 > x1 and y1 > y2 > 0):
+        return None
+
+    def onset(pw):
+        # F* of the power law pw through the last two points
+        return x2 + (x2 - x1) / ((y1 / y2) ** (1.0 / pw) - 1.0)
+
+    if len(pts) >= 3:
+        x0, y0 = pts[-3]
+        if x1 > x0 and y0 > y1:
+            def mismatch(pw):  # log G0 predicted by the law through the last two, minus measured
+                f = onset(pw)
+                return math.log(y2) + pw * math.log((f - x0) / (f - x2)) - math.log(y0)
+
+            lo_p, hi_p = 1.0, 3.0
+            m_lo, m_hi = mismatch(lo_p), mismatch(hi_p)
+            if m_lo * m_hi < 0:
+                for _ in range(50):  # bisection on the exponent (cheap: no solve)
+                    mid = 0.5 * (lo_p + hi_p)
+                    m = mismatch(mid)
+                    if m * m_lo > 0:
+                        lo_p, m_lo = mid, m
+                    else:
+                        hi_p = mid
+                return onset(0.5 * (lo_p + hi_p))
+    return onset(1.0)
 
 
 def normal_path(

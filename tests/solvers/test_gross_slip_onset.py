@@ -1,0 +1,145 @@
+"""The gross-slip onset: TangCG on states without stick, and the onset search of the ramp.
+
+* TangCG solves a force-controlled state in which every node slips (a coupled contact above its
+  onset, below mu F0+) itself: converged, no projected-gradient fallback, Coulomb's law on every
+  node (|q| = mu p, slip opposite to the traction), and the projected gradient's solution.
+* ``unused_friction`` is 1 - Q/(mu P) on Cattaneo-Mindlin (the tractions all point along x).
+* ``_locate_onset``: on synthetic indicators G = C (F* - F)^p the bracket closes around F* within
+  the required width in at most 4 probes (bisection: 7); on an indicator that misleads the
+  extrapolation it still closes (bisection fallback).
+* ``tangential_ramp`` on Paper D 3.1 (32^2): the same onset as a pure bisection, within the
+  required width, in fewer solves.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from tribobem import ConvergenceWarning
+from tribobem.solvers import slip_paths
+from tribobem.solvers.coupling import solve_coupled
+from tribobem.solvers.slip_paths import _locate_onset, tangential_ramp, unused_friction
+from tribobem.solvers.tangential import solve_tangential
+from tribobem.validation.tangential import cattaneo_problem, paper_d_problem
+
+MU_D = 0.2
+
+
+@pytest.fixture(scope="module")
+def paper_d_zero():
+    grid, gap, op, pair, a, F0 = paper_d_problem(32)
+    z = solve_coupled(op, gap, friction_coefficient=MU_D, normal_force=F0)
+    return op, gap, F0, z
+
+
+def test_tangcg_solves_a_state_without_stick_itself(paper_d_zero):
+    op, gap, F0, z = paper_d_zero
+    p, contact = z.normal.pressure, z.normal.contact
+    cap = MU_D * z.normal.repulsive_force
+    F = (0.97 * cap, 0.0)  # above the coupled onset (0.91 mu F0+ here), below mu F0+
+    cg = solve_tangential(op, p, contact, friction_coefficient=MU_D, force=F, tol=1e-10)
+    assert cg.converged, cg.message
+    assert "projected gradient" not in cg.message  # the old TangCG handed this state over
+    assert cg.gross_slip and not cg.stick.any()
+    assert cg.force_x == pytest.approx(F[0], rel=1e-10) and abs(cg.force_y) < 1e-10 * F[0]
+    c = contact & (p > 0)
+    qm = np.hypot(*cg.shear)[c]
+    np.testing.assert_allclose(qm, MU_D * p[c], rtol=1e-8)
+    # slip opposite to the traction: no perpendicular part, negative along it
+    sx, sy = cg.slip[0][c], cg.slip[1][c]
+    qx, qy = cg.shear[0][c], cg.shear[1][c]
+    smag = np.hypot(sx, sy)
+    scale = cg.info["slip_scale"]
+    assert np.abs(sx * qy - sy * qx).max() / (qm.max() * scale) < 1e-6
+    assert np.all(sx * qx + sy * qy <= 1e-6 * scale * qm)
+    assert smag.max() > 1e-3 * scale  # it really slips
+    # the same state as the projected gradient's, in far fewer iterations
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        pg = solve_tangential(op, p, contact, friction_coefficient=MU_D, force=F, tol=1e-10, method="fista")
+    assert pg.converged
+    np.testing.assert_allclose(cg.shear, pg.shear, atol=1e-6 * MU_D * p.max())
+    assert cg.displacement_x == pytest.approx(pg.displacement_x, rel=1e-5)
+    assert cg.iterations < pg.iterations
+
+
+def test_unused_friction_is_one_minus_q_over_mu_p_for_cattaneo_mindlin():
+    from tribobem.solvers.normal import solve_normal
+
+    grid, gap, op, pair, a = cattaneo_problem(64)
+    mu, P = 0.3, 10.0
+    nr = solve_normal(op, gap, force=P, tol=1e-12)
+    for ratio in (0.3, 0.7):
+        t = solve_tangential(op, nr.pressure, nr.contact, friction_coefficient=mu, force=(ratio * mu * P, 0.0),
+                             tol=1e-10)
+        res = SimpleNamespace(tangential=t, normal=nr)
+        assert unused_friction(res) == pytest.approx(1.0 - ratio, abs=2e-3)
+    # no stick: nothing unused
+    t.stick[...] = False
+    assert unused_friction(SimpleNamespace(tangential=t, normal=nr)) == 0.0
+
+
+def _synthetic(G, F0=1.0, mu=1.0):
+    """probe(value) for an indicator G(F) (> 0 with stick, <= 0: gross slip) and its call log."""
+    calls = []
+
+    def state(value):
+        return SimpleNamespace(G=max(G(value), 0.0), normal=SimpleNamespace(repulsive_force=F0),
+                               tangential=SimpleNamespace(gross_slip=G(value) <= 0))
+
+    def probe(value):
+        calls.append(value)
+        s = state(value)
+        return s.tangential.gross_slip, (None if s.tangential.gross_slip else s)
+
+    return probe, state, calls
+
+
+@pytest.mark.parametrize("p", [1.0, 1.5])
+@pytest.mark.parametrize("onset", [0.917, 0.9855, 0.9991])
+def test_onset_search_on_power_laws(monkeypatch, p, onset):
+    monkeypatch.setattr(slip_paths, "unused_friction", lambda res: res.G)
+    probe, state, calls = _synthetic(lambda F: 0.3 * max(onset - F, -1.0) ** p if F < onset else onset - F)
+    lo, hi = 0.8, 1.0  # the ramp's last step with stick and the first without (steps of 0.1)
+    out = _locate_onset(probe, lo, hi, state(lo), (0.7, state(0.7)), 1e-3, 1.0, 40, True, 1.0)
+    lo, hi, lo_res, n = out
+    assert lo <= onset < hi and hi - lo <= 1e-3
+    assert not lo_res.tangential.gross_slip and lo_res.G > 0
+    assert n == len(calls) <= 4  # the bisection of the 0.2 bracket to 1e-3 takes 8
+
+
+def test_onset_search_survives_a_misleading_indicator(monkeypatch):
+    # unused friction that stays flat and then drops within 1e-4: every extrapolation is far off
+    onset = 0.9373
+
+    def G(F):
+        if F >= onset:
+            return onset - F
+        return 0.2 if F < onset - 1e-4 else 0.2 * (onset - F) / 1e-4
+
+    monkeypatch.setattr(slip_paths, "unused_friction", lambda res: res.G)
+    probe, state, calls = _synthetic(G)
+    lo, hi, lo_res, n = _locate_onset(probe, 0.8, 1.0, state(0.8), (0.7, state(0.7)), 1e-3, 1.0, 40, True, 1.0)
+    assert lo <= onset < hi and hi - lo <= 1e-3
+    assert n <= 12
+
+
+def test_ramp_onset_equals_the_bisection(monkeypatch):
+    grid, gap, op, pair, a, F0 = paper_d_problem(32)
+    forces = [0.0, 0.5e-6, 1.0e-6, 1.5e-6, 2.0e-6]
+    kw = dict(normal_force=F0, friction_coefficient=MU_D, forces=forces, refine_tol=1e-3)
+    smart = tangential_ramp(op, gap, **kw)
+    monkeypatch.setattr(slip_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection
+    plain = tangential_ramp(op, gap, **kw)
+    need = 1e-3 * MU_D * smart.onset_state.normal.repulsive_force
+    (l1, h1), (l2, h2) = smart.onset_bracket, plain.onset_bracket
+    assert h1 - l1 <= need and h2 - l2 <= need
+    assert max(l1, l2) < min(h1, h2)  # the brackets overlap: the same onset
+    assert abs(smart.onset - plain.onset) <= need
+    assert smart.refine_steps < plain.refine_steps
+    assert math.isclose(smart.onset_ratio, plain.onset_ratio, rel_tol=2e-3)
