@@ -436,6 +436,58 @@ def _less_delta(s, delta):
     return s
 
 
+def _force_multiplier(xp, z, bound, target, lam, rim=False):
+    """The tractions q_i = P_i(z_i + lam) whose sum is ``target``, and the 2-D multiplier lam.
+
+    P_i projects onto the disc |q| <= bound_i (``rim=True``: onto its rim, every node slipping).
+    lam by damped Newton steps on the force balance, the gradient of a convex function of lam
+    (sum of the discs' Moreau envelopes, or of b_i |z_i + lam| on the rims), from ``lam``.
+    Returns (q_x, q_y, lam).
+    """
+    b, F = bound, target
+    lam = np.array(lam, dtype=float)
+    fscale = float(b.sum()) + float(np.abs(F).max()) + 1e-300
+
+    def evaluate(lam):
+        wx, wy = z[0] + lam[0], z[1] + lam[1]
+        mag = xp.sqrt(wx * wx + wy * wy)
+        out = xp.ones(mag.shape, dtype=bool) if rim else mag > b
+        f = xp.where(out, b / xp.where(mag > 0, mag, 1e-300 if rim else 1.0), 1.0)
+        qx, qy = wx * f, wy * f
+        res = np.array([float(qx.sum()) - F[0], float(qy.sum()) - F[1]])
+        return qx, qy, mag, out, f, res
+
+    qx, qy, mag, out, f, res = evaluate(lam)
+    for _ in range(60):
+        nr = float(np.hypot(*res))
+        if nr <= 1e-13 * fscale:
+            break
+        # Jacobian: I on interior nodes, (b/|w|)(I - e e^T) on rim nodes.
+        n_in = float((~out).sum())
+        ex = xp.where(out, (z[0] + lam[0]) / xp.where(mag > 0, mag, 1.0), 0.0)
+        ey = xp.where(out, (z[1] + lam[1]) / xp.where(mag > 0, mag, 1.0), 0.0)
+        fo = xp.where(out, f, 0.0)
+        jxx = n_in + float((fo * (1 - ex * ex)).sum())
+        jyy = n_in + float((fo * (1 - ey * ey)).sum())
+        jxy = -float((fo * ex * ey).sum())
+        J = np.array([[jxx, jxy], [jxy, jyy]])
+        J += 1e-12 * (jxx + jyy + 1.0) * np.eye(2)
+        try:
+            step = np.linalg.solve(J, res)
+        except np.linalg.LinAlgError:
+            step = res / max(jxx + jyy, 1.0)
+        a = 1.0
+        for _ in range(40):
+            cand = lam - a * step
+            c = evaluate(cand)
+            if float(np.hypot(*c[5])) < nr:
+                break
+            a *= 0.5
+        lam = cand
+        qx, qy, mag, out, f, res = c
+    return qx, qy, lam
+
+
 class _Tangential:
     """Working state of the accelerated projected-gradient iteration on the contact set."""
 
@@ -591,50 +643,8 @@ class _Tangential:
     def _project_force(self, z):
         """P_C(z): the discs intersected with sum q = target.  q_i = P_i(z_i + lam), with the
         2-D multiplier lam found by Newton steps on the (monotone) force balance."""
-        xp, b = self.xp, self.bound
-        F = self.target
-        lam = self.lam.copy()
-        fscale = float(b.sum()) + float(np.abs(F).max()) + 1e-300
-
-        def evaluate(lam):
-            wx, wy = z[0] + lam[0], z[1] + lam[1]
-            mag = xp.sqrt(wx * wx + wy * wy)
-            out = mag > b
-            f = xp.where(out, b / xp.where(mag > 0, mag, 1.0), 1.0)
-            qx, qy = wx * f, wy * f
-            res = np.array([float(qx.sum()) - F[0], float(qy.sum()) - F[1]])
-            return qx, qy, mag, out, f, res
-
-        qx, qy, mag, out, f, res = evaluate(lam)
-        for _ in range(60):
-            nr = float(np.hypot(*res))
-            if nr <= 1e-13 * fscale:
-                break
-            # Jacobian: I on interior nodes, (b/|w|)(I - e e^T) on rim nodes.
-            n_in = float((~out).sum())
-            ex = xp.where(out, (z[0] + lam[0]) / xp.where(mag > 0, mag, 1.0), 0.0)
-            ey = xp.where(out, (z[1] + lam[1]) / xp.where(mag > 0, mag, 1.0), 0.0)
-            fo = xp.where(out, f, 0.0)
-            jxx = n_in + float((fo * (1 - ex * ex)).sum())
-            jyy = n_in + float((fo * (1 - ey * ey)).sum())
-            jxy = -float((fo * ex * ey).sum())
-            J = np.array([[jxx, jxy], [jxy, jyy]])
-            J += 1e-12 * (jxx + jyy + 1.0) * np.eye(2)
-            try:
-                step = np.linalg.solve(J, res)
-            except np.linalg.LinAlgError:
-                step = res / max(jxx + jyy, 1.0)
-            a = 1.0
-            for _ in range(40):
-                cand = lam - a * step
-                c = evaluate(cand)
-                if float(np.hypot(*c[5])) < nr:
-                    break
-                a *= 0.5
-            lam = cand
-            qx, qy, mag, out, f, res = c
-        self.lam = lam
-        return xp.stack([qx, qy])
+        qx, qy, self.lam = _force_multiplier(self.xp, z, self.bound, self.target, self.lam)
+        return self.xp.stack([qx, qy])
 
     # ------------------------------------------------------------------ one iteration
     def iterate(self):
@@ -810,42 +820,10 @@ class _TangCG(IterativeSolver):
         return x - tc * t, c
 
     def _rotate_to_force(self):
-        """Restore sum q = target with no stick node: q_i = b_i (q_i + lam) / |q_i + lam|, the 2-D
-        lam by damped Newton steps (the force is the gradient of the convex sum b_i |q_i + lam|;
-        a solution exists because |target| < sum b_i, checked on entry)."""
-        st, xp = self.st, self.xp
-        q0, b, F = st.q.copy(), st.bound, st.target
-        fscale = float(b.sum()) + 1e-300
-        lam = np.zeros(2)
-
-        def evaluate(lam):
-            wx, wy = q0[0] + lam[0], q0[1] + lam[1]
-            mag = xp.sqrt(wx * wx + wy * wy)
-            mag = xp.where(mag > 0, mag, 1e-300)
-            f = b / mag
-            res = np.array([float((wx * f).sum()) - F[0], float((wy * f).sum()) - F[1]])
-            return wx, wy, mag, f, res
-
-        wx, wy, mag, f, res = evaluate(lam)
-        for _ in range(60):
-            nr = float(np.hypot(*res))
-            if nr <= 1e-13 * fscale:
-                break
-            ex, ey = wx / mag, wy / mag
-            jxx, jyy, jxy = float((f * (1 - ex * ex)).sum()), float((f * (1 - ey * ey)).sum()), -float((f * ex * ey).sum())
-            J = np.array([[jxx, jxy], [jxy, jyy]]) + 1e-12 * (jxx + jyy + 1.0) * np.eye(2)
-            step = np.linalg.solve(J, res)
-            a = 1.0
-            for _ in range(40):
-                cand = lam - a * step
-                c = evaluate(cand)
-                if float(np.hypot(*c[4])) < nr:
-                    break
-                a *= 0.5
-            lam = cand
-            wx, wy, mag, f, res = c
-        st.q[0] = wx * f
-        st.q[1] = wy * f
+        """Restore sum q = target with no stick node: q_i = b_i (q_i + lam) / |q_i + lam| (every
+        node on its rim; a solution exists because |target| < sum b_i, checked on entry)."""
+        st = self.st
+        st.q[0], st.q[1], _ = _force_multiplier(self.xp, st.q.copy(), st.bound, st.target, np.zeros(2), rim=True)
 
     # -- the steps run by iteration.run_iterations
     def start(self):
