@@ -29,14 +29,15 @@ Answer (one surface realisation, numbers below; findings, not targets):
   is 0.2-0.6 cells wide (the runs warn), so the values are grid-set; the conclusion that the
   pull-off of this non-sticky interface (rms 2 nm on Si; on a trial map the unloading from the
   clamp load retraced the loading, see Set-up) is not extensive does not hang on them.
-* **Capillary pull-off at RH 0.5: extensive, converging with window size, no whole-burl
-  reference.**  The windows' capillary stress is 19-38 MPa at 2 um (centre and edge differ by
+* **Capillary pull-off at RH 0.5: extensive, converging with window size, and the whole
+  burl's within the windows' range.**  The windows' capillary stress is 19-38 MPa at 2 um (centre and edge differ by
   2x), 22-25 MPa at 5 um and 27-29 MPa at 10 um (free and periodic within 4 %): the menisci
   fill the area, so the stress is intensive and the 10 um windows agree with each other.  The
-  whole burl's capillary pull-off did not finish: at 384^2 (free boundary) it ran 24 min of
-  CPU without returning and was stopped, while the 10 um windows (166^2) took about 10 s each.
-  That is a cost (or a stall) of the humid pull-off to look into; the study leaves it out
-  (``whole_capillary = False`` in :data:`FULL`).
+  whole burl's capillary pull-off, computed apart with ``[solver] method = "normcg"`` on the
+  same map (Polonsky-Keer did not finish at 384^2), is 25.8 MPa at 384^2 (142 s of CPU) and
+  25.4 MPa at 768^2 (52 min of CPU), grid-converged to 1.5 % (documentation, Studies).  The
+  study's own run leaves it out (``whole_capillary = False`` in :data:`FULL`): with the default
+  solver it does not finish.
 
 Full study (measured 2026-11-26, ``python -m studies.burl_windows --out /tmp/burl_windows``,
 on a shared 2-core machine: whole burl 98 s wall (768^2 normal 9.9 s, 384^2 normal 1.6 s,
