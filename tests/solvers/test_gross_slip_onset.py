@@ -143,3 +143,18 @@ def test_ramp_onset_equals_the_bisection(monkeypatch):
     assert abs(smart.onset - plain.onset) <= need
     assert smart.refine_steps < plain.refine_steps
     assert math.isclose(smart.onset_ratio, plain.onset_ratio, rel_tol=2e-3)
+
+
+def test_force_at_mu_fn_without_adhesion_is_gross_slip_before_any_solve(paper_d_zero, monkeypatch):
+    import tribobem.solvers.coupling as C
+    from tribobem.solvers.tangential import GrossSlipError
+
+    op, gap, F0, z = paper_d_zero
+    calls = []
+    monkeypatch.setattr(C, "solve_normal", lambda *a, **k: calls.append(1))
+    monkeypatch.setattr(C, "solve_tangential", lambda *a, **k: calls.append(2))
+    for f in (MU_D * F0, (0.0, 1.2 * MU_D * F0)):
+        with pytest.raises(GrossSlipError, match="mu F0\\+") as err:
+            solve_coupled(op, gap, friction_coefficient=MU_D, normal_force=F0, tangential_force=f, initial=z)
+        assert err.value.max_force == pytest.approx(MU_D * F0, rel=1e-12)
+    assert calls == []  # known without a solve: the contact carries exactly F_N

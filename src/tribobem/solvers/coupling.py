@@ -44,7 +44,7 @@ from ..elasticity.tangential import tangential_operator
 from ..errors import ConvergenceWarning, InputError
 from ..results import CoupledResult, NormalResult
 from .normal import solve_normal
-from .tangential import GrossSlipError, solve_tangential
+from .tangential import GrossSlipError, _as_pair, solve_tangential
 
 __all__ = ["solve_coupled"]
 
@@ -82,6 +82,44 @@ def _contraction(history, hint: float | None = None, first: int = 1) -> float | 
 def _remaining(change: float, rho: float) -> float:
     """Estimated distance to the fixed point after a pass with this change (geometric tail)."""
     return change * rho / (1.0 - rho)
+
+
+def _beyond_capacity(interaction, normal_force, mu, tangential_force, tangential_displacement) -> None:
+    """Raise GrossSlipError before any solve when the force is known to exceed mu F0+.
+
+    Without an interaction (no adhesion) the compressive contact carries exactly the normal
+    force, whatever the coupling does to the pressure, so mu F0+ = mu F_N.  The passes would
+    find it too, but only after a predictor and a tangential solve at the capacity, where the
+    all-slip state degenerates: the costliest solves of a ramp (a rough burl at 2048^2: ~300 s).
+    Bad inputs are left to the solvers, which name them.
+    """
+    if interaction is not None or normal_force is None or tangential_displacement is not None:
+        return
+    try:
+        F = _as_pair(tangential_force, "friction.tangential_force")
+        fn, mu = float(normal_force), float(mu)
+    except (InputError, TypeError, ValueError):
+        return
+    f_t = math.hypot(*F)
+    if not (math.isfinite(f_t) and math.isfinite(fn) and math.isfinite(mu)) or fn <= 0 or mu <= 0 or f_t == 0:
+        return
+    cap = mu * fn
+    if f_t >= cap * (1.0 - 1e-12):
+        raise GrossSlipError("friction.tangential_force",
+                             f"gross sliding: |F_t| = {f_t:.6g} N has no equilibrium; it reaches mu F0+ = "
+                             f"{cap:.6g} N, the most the contact can carry", cap)
+
+
+def _near_capacity(operator, pressure, contact, mu, tangential_force, margin: float = 1e-3) -> bool:
+    """Whether |F_t| >= (1 - margin) mu F0+ of ``pressure`` (on ``contact``)."""
+    try:
+        f_t = math.hypot(*_as_pair(tangential_force, "friction.tangential_force"))
+        xp = operator.backend.xp
+        p = xp.asarray(pressure, dtype=float)
+        f0p = float(xp.where(xp.asarray(contact, dtype=bool) & (p > 0), p, 0.0).sum()) * operator.grid.cell_area
+        return f_t > 0 and f_t >= (1.0 - margin) * float(mu) * f0p
+    except (InputError, TypeError, ValueError, AttributeError):
+        return False
 
 
 def solve_coupled(
@@ -176,6 +214,7 @@ def solve_coupled(
     xp = top.xp
     h = xp.asarray(gap, dtype=float)
     normal_load = {"force": normal_force} if normal_force is not None else {"approach": approach}
+    _beyond_capacity(interaction, normal_force, friction_coefficient, tangential_force, tangential_displacement)
 
     # A self-consistent law (capillary islands) solves its own normal problem: the islands are
     # recomputed from the gap of every pass.
@@ -227,14 +266,21 @@ def solve_coupled(
                 # a pressure error ~1e-4 and the loop needs one pass fewer.
                 p_pred = p_init[0] if isinstance(p_init, tuple) else initial.normal.pressure
                 c_pred = p_init[1] if isinstance(p_init, tuple) else initial.normal.contact
-                try:
-                    pre = solve_tangential(operator, p_pred, c_pred, friction_coefficient=friction_coefficient,
-                                           force=tangential_force, displacement=tangential_displacement,
-                                           reference=reference, initial_shear=shear, initial_stick=stick,
-                                           tol=max(tangential_tol, PREDICTOR_TOL), max_iterations=max_iterations,
-                                           full_fields=False)
-                except GrossSlipError:
-                    pre = None  # the predicted pressure cannot carry the force: start from the warm start
+                pre = None
+                # Within 1e-3 of what the predicted pressure carries, the all-slip state there
+                # degenerates (its tractions all but aligned) and costs many times a step, for a
+                # pressure that is only a prediction: the passes solve it instead.
+                near = tangential_displacement is None and _near_capacity(
+                    operator, p_pred, c_pred, friction_coefficient, tangential_force)
+                if not near:
+                    try:
+                        pre = solve_tangential(operator, p_pred, c_pred, friction_coefficient=friction_coefficient,
+                                               force=tangential_force, displacement=tangential_displacement,
+                                               reference=reference, initial_shear=shear, initial_stick=stick,
+                                               tol=max(tangential_tol, PREDICTOR_TOL), max_iterations=max_iterations,
+                                               full_fields=False)
+                    except GrossSlipError:
+                        pre = None  # the predicted pressure cannot carry the force: start from the warm start
                 if pre is not None:
                     # on the host, as the pressures of the normal results it is compared with
                     shear, stick, predicted = pre.shear, pre.stick, operator.backend.to_numpy(p_pred)
