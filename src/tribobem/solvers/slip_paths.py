@@ -280,10 +280,10 @@ def unused_friction(res: CoupledResult) -> float:
 
     sum over the stick nodes of (mu p - |q|), over the sum of mu p on the compressive contact
     nodes; 0 without stick.  It falls to 0 continuously as the last stick node reaches its
-    friction disc, i.e. at the gross-slip onset.  For Cattaneo-Mindlin it is (c/a)^3 (1 - ...) =
-    1 - Q/(mu P), linear in the force; on a rough burl (256^2-512^2) the linear extrapolation from
-    the ramp's last two steps lands within 1e-3 mu F0+ of the onset, which is what
-    :func:`_locate_onset` uses.
+    friction disc, i.e. at the gross-slip onset.  For Cattaneo-Mindlin it is exactly 1 - Q/(mu P)
+    (the slip annulus carries mu p and every traction points along the load), linear in the
+    force, which is what :func:`_locate_onset` extrapolates; on a rough burl (256^2-2048^2) it
+    falls more slowly over the last few stick nodes (a power law with exponent up to ~1.5).
     """
     t = res.tangential
     if not bool(np.any(t.stick)):
@@ -301,7 +301,8 @@ def _locate_onset(probe, lo, hi, lo_res, before, refine_tol, scale, max_refine, 
 
     ``probe(value)`` solves a state and returns (gross, result); ``before`` is (value, result) of
     the state before ``lo_res`` on the ramp, or None.  The onset is estimated by extrapolating
-    :func:`unused_friction` linearly to 0 from the two nearest states with stick, and the probe
+    :func:`unused_friction` to 0 from the nearest states with stick (:func:`_extrapolate_onset`),
+    and the probe
     goes 0.45 of the required width beyond the estimate: above it after a state with stick,
     below it after one without, so that an estimate good to 0.45 of the width closes the
     bracket in two solves.  A bisection when there is no estimate inside the bracket, when a
