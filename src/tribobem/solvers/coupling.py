@@ -44,7 +44,7 @@ from ..elasticity.tangential import tangential_operator
 from ..errors import ConvergenceWarning, InputError
 from ..results import CoupledResult, NormalResult
 from .normal import solve_normal
-from .tangential import GrossSlipError, _as_pair, solve_tangential
+from .tangential import GrossSlipError, _as_pair, beyond_capacity_error, solve_tangential
 
 __all__ = ["solve_coupled"]
 
@@ -105,9 +105,7 @@ def _beyond_capacity(interaction, normal_force, mu, tangential_force, tangential
         return
     cap = mu * fn
     if f_t >= cap * (1.0 - 1e-12):
-        raise GrossSlipError("friction.tangential_force",
-                             f"gross sliding: |F_t| = {f_t:.6g} N has no equilibrium; it reaches mu F0+ = "
-                             f"{cap:.6g} N, the most the contact can carry", cap)
+        raise beyond_capacity_error(f_t, cap, mu)
 
 
 def _near_capacity(operator, pressure, contact, mu, tangential_force, margin: float = 1e-3) -> bool:

@@ -126,6 +126,15 @@ class GrossSlipError(InputError):
         super().__init__(field, message)
 
 
+def beyond_capacity_error(force: float, capacity: float, mu: float) -> GrossSlipError:
+    """The GrossSlipError of a tangential force |F_t| = ``force`` (N) at or beyond mu F0+ =
+    ``capacity`` (N)."""
+    why = ("the friction coefficient is 0 (frictionless): any tangential force is gross sliding"
+           if mu == 0 else f"it reaches mu F0+ = {capacity:.6g} N, the most the contact can carry")
+    return GrossSlipError("friction.tangential_force",
+                          f"gross sliding: |F_t| = {force:.6g} N has no equilibrium; {why}", capacity)
+
+
 def _as_pair(value, name: str):
     """(x, y) from a pair or a scalar (taken along x); InputError naming ``name`` otherwise."""
     if value is None:
@@ -297,10 +306,7 @@ def solve_tangential(
                                  f"a tangential force of {Fmag:.4g} N with no compressive contact: nothing can carry it "
                                  "(gross sliding)", 0.0)
         if Fmag >= capacity * (1.0 - 1e-12) and Fmag > 0:
-            why = ("the friction coefficient is 0 (frictionless): any tangential force is gross sliding"
-                   if mu == 0 else f"it reaches mu F0+ = {capacity:.6g} N, the most the contact can carry")
-            raise GrossSlipError("friction.tangential_force",
-                                 f"gross sliding: |F_t| = {Fmag:.6g} N has no equilibrium; {why}", capacity)
+            raise beyond_capacity_error(Fmag, capacity, mu)
         target = F / cell  # target sum of q (Pa)
         delta = np.zeros(2)
     else:
@@ -877,9 +883,8 @@ class _TangCG(IterativeSolver):
             n_st = int(stick.sum())
             stickf = stick.astype(float)
             # Directions of the slip tractions and the residual.
-            mag = xp.sqrt(q[0] ** 2 + q[1] ** 2)
-            n = q / xp.where(mag > 0, mag, 1.0)
-            t = xp.stack([-n[1], n[0]])
+            t = self._tangents()
+            n = xp.stack([t[1], -t[0]])
             r = -s
             if any_slip:
                 rt = t[0] * r[0] + t[1] * r[1]
