@@ -243,8 +243,8 @@ _SOLVER_KEYS = {"time", "residual", "tangential_residual", "iterations", "tangen
 _RUN_SKIP = {"steps", "warnings", "ramp_message", "timings", "created", "inputs", "versions", "problem"}
 #: Measured: 19 of the 24 cases identical to the last bit; the others (where the NumPy backend
 #: takes its own code paths: row-skipping padded FFTs, sparse column updates) within 8e-10 on
-#: the solution (forces, approach, pressure, displacement) and 4e-8 on the fitted loop law (a
-#: round-off difference that moves an iterate moves a result within the solvers' tolerances).
+#: the solution (forces, approach, pressure, displacement) (a round-off difference that moves an
+#: iterate moves a result within the solvers' tolerances); the fitted loop law: FIT_RTOL.
 RTOL = 1e-7
 #: The single-node peak pressure of the coupled kinds: their default normal solver is NormCG
 #: (no adhesion), which stops at another iterate when round-off differs, and the coupling loop
@@ -252,6 +252,13 @@ RTOL = 1e-7
 #: 1.2-1.3e-7 on two cases, every other value of every case within RTOL.
 PEAK_RTOL = 1e-6
 _PEAK_KEYS = {"steps.max_pressure"}
+#: The fitted loop law's parameters: c2 and the exponent n of the power law are correlated, so
+#: round-off that moves an iterate moves them more than the solution.  Measured: a change of the
+#: free-boundary kernel at 1e-13 (its corner-lattice evaluation) moved c2 by 3.8e-8 on the NumPy
+#: backend alone, and the strict-vs-NumPy difference of hysteresis_dissimilar_windowed from 4e-8
+#: to 1.8e-7 (of c2); the loop's forces and displacements stay within RTOL.
+FIT_RTOL = 1e-6
+_FIT_KEYS = {"run.lateral_stiffness_fit"}
 
 
 def _run_strict(sc: dict, monkeypatch):
@@ -368,5 +375,6 @@ def test_run_kind_is_device_clean(name, monkeypatch):
     run_ref = {k: v for k, v in ref.summary.items() if k not in _RUN_SKIP}
     diffs.update(_compare(run_ref, {k: got.summary.get(k) for k in run_ref}, "run"))
     coupled = sc.get("kind") in ("partial_slip", "hysteresis")
-    bad = {k: d for k, d in diffs.items() if d > (PEAK_RTOL if coupled and k in _PEAK_KEYS else RTOL)}
+    bad = {k: d for k, d in diffs.items()
+           if d > (PEAK_RTOL if coupled and k in _PEAK_KEYS else FIT_RTOL if k in _FIT_KEYS else RTOL)}
     assert not bad, f"{name}: the strict and NumPy backends differ (relative): {bad}"

@@ -15,7 +15,7 @@ import pytest
 from scipy import integrate
 
 from tribobem import ContactPair, Material
-from tribobem.elasticity import composite_coefficients, point_kernel, single_body_coefficients
+from tribobem.elasticity import composite_coefficients, lattice_coefficients, point_kernel, single_body_coefficients
 from tribobem.elasticity.influence import COMPONENTS
 
 # Non-square cell and a material with G = 1 (E = 2 (1 + nu)): the quadrature runs on O(1)
@@ -233,3 +233,26 @@ def test_rigid_body_contributes_zero(component):
     # the rigid body on the other side flips only the coupling sign
     sign = -1.0 if component in ("xz", "zx", "yz", "zy") else 1.0
     np.testing.assert_array_equal(down, sign * alone)
+
+
+@pytest.mark.parametrize("component", COMPONENTS)
+@pytest.mark.parametrize("bodies", ["dissimilar", "rigid_below"])
+def test_lattice_coefficients_equal_the_corner_sum(component, bodies):
+    """The corner-lattice evaluation (one antiderivative per shared corner: the free-boundary
+    operator's build) gives the corner sum of every cell: the same coefficients to round-off,
+    with the composite rules (coupling subtracts, a rigid body adds nothing)."""
+    pair = ContactPair(M1, M2) if bodies == "dissimilar" else ContactPair(M2, Material.rigid())
+    dx, dy = 1e-7, 0.75e-7
+    i = np.arange(-7, 12)
+    j = np.arange(-13, 6)
+    xc = (np.arange(-7, 13) - 0.5) * dx
+    yc = (np.arange(-13, 7) - 0.5) * dy
+    lat = lattice_coefficients(component, pair, xc, yc)
+    ref = composite_coefficients(component, pair, i[:, None] * dx, j[None, :] * dy, dx, dy)
+    assert lat.shape == ref.shape == (i.size, j.size)
+    scale = np.abs(ref).max()
+    if scale == 0.0:  # identical materials' coupling
+        assert np.all(lat == 0.0)
+    else:
+        # round-off of the antiderivative, |F| ~ 20 cells x |coefficient| at the far corners
+        np.testing.assert_allclose(lat, ref, rtol=0, atol=1e-13 * scale)

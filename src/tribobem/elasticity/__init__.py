@@ -2,11 +2,11 @@
 
 from .backend import Backend, cupy_available
 from .backends import get_backend
-from .influence import composite_coefficients, point_kernel, single_body_coefficients
+from .influence import composite_coefficients, lattice_coefficients, point_kernel, single_body_coefficients
 from .operators import ConvolutionOperator, free_boundary_operator, make_operator, periodic_operator
 
 __all__ = [
     "Backend", "get_backend", "cupy_available",
-    "composite_coefficients", "single_body_coefficients", "point_kernel",
+    "composite_coefficients", "lattice_coefficients", "single_body_coefficients", "point_kernel",
     "ConvolutionOperator", "free_boundary_operator", "periodic_operator", "make_operator",
 ]

@@ -30,18 +30,20 @@ coupled 3x3 operator therefore plugs in without changing them.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Mapping
 
 import numpy as np
+import scipy.fft as sfft
 
 from ..errors import InputError
 from ..grid import Grid
 from ..materials import ContactPair
-from .backend import Backend, times_spectrum, work_buffers
+from .backend import Backend, default_workers, times_spectrum, work_buffers
 from .backends import get_backend
-from .influence import composite_coefficients
+from .influence import lattice_coefficients
 
 AXES = ("x", "y", "z")
 
@@ -247,24 +249,14 @@ def _realify(spec: np.ndarray) -> np.ndarray:
     return spec
 
 
-def _wrapped_offsets(n: int, d: float) -> np.ndarray:
-    """Offsets of a 2n wrap-around layout: 0..n-1, (unused) n, -(n-1)..-1 (times d)."""
-    i = np.arange(2 * n)
-    off = np.where(i < n, i, i - 2 * n).astype(float) * d
-    return off
-
-
 @lru_cache(maxsize=8)
 def _free_boundary_cached(grid: Grid, pair: ContactPair, components: tuple, backend_name: str):
     be = get_backend(backend_name)
-    nx, ny, dx, dy = grid.nx, grid.ny, grid.dx, grid.dy
-    X = _wrapped_offsets(nx, dx)[:, None]
-    Y = _wrapped_offsets(ny, dy)[None, :]
     spectra = {}
     for out in components:
         for inp in components:
             key = out + inp
-            spec = _padded_kernel_spectrum(key, pair, X, Y, dx, dy, nx, ny)
+            spec = _padded_kernel_spectrum(key, pair, grid.nx, grid.ny, grid.dx, grid.dy)
             if spec is not None:
                 spectra[key] = be.asarray(spec)
     return spectra
@@ -272,30 +264,56 @@ def _free_boundary_cached(grid: Grid, pair: ContactPair, components: tuple, back
 
 #: Rows of the 2nx x 2ny coefficient array computed at a time (about 2^22 points per block).
 _KERNEL_BLOCK_POINTS = 1 << 22
+#: Blocks computed at once, at most (each holds ~8 block-sized arrays: ~270 MB).
+_KERNEL_THREADS = 8
 
 
-def _padded_kernel_spectrum(key, pair, X, Y, dx, dy, nx, ny):
-    """``np.fft.rfft2`` of the wrap-around coefficient array of block ``key`` (None if zero),
-    real when its imaginary part is round-off; the coefficients are computed and transformed
-    along y in blocks of rows (then the FFT along x in place), so that the peak is the
-    complex half-spectrum and one block, not several full 2nx x 2ny arrays.  The same
-    transforms as ``np.fft.rfft2`` (rfft along the last axis, then fft along the first), so the
-    same numbers."""
-    N1, N2 = X.shape[0], Y.shape[1]
+def _row_blocks(nx: int, step: int):
+    """Row ranges of the 2nx wrap-around layout (offsets 0..nx-1, -nx..-1), ``step`` rows at
+    most, none across row nx (where the offsets jump from nx-1 to -nx), with the offset of
+    their first row."""
+    for lo, hi, k0 in ((0, nx, 0), (nx, 2 * nx, -nx)):
+        for i0 in range(lo, hi, step):
+            yield i0, min(hi, i0 + step), k0 + i0 - lo
+
+
+def _padded_kernel_spectrum(key, pair, nx, ny, dx, dy):
+    """The 2-D real FFT of the wrap-around coefficient array of block ``key`` (None if zero),
+    real when its imaginary part is round-off.  The coefficients are computed from their
+    corner lattice (:func:`~tribobem.elasticity.influence.lattice_coefficients`) and transformed
+    along y in blocks of rows, then along x in place, so that the peak is the complex
+    half-spectrum and a few blocks, not several full 2nx x 2ny arrays (rfft along the last axis,
+    then fft along the first: the transforms of ``rfft2``).  The blocks run on the FFT threads
+    (at most ``_KERNEL_THREADS``): NumPy's ufuncs release the GIL, and each block writes its own
+    rows, so the numbers do not depend on the thread count."""
+    N1, N2 = 2 * nx, 2 * ny
     C = np.empty((N1, N2 // 2 + 1), dtype=complex)
     step = max(1, _KERNEL_BLOCK_POINTS // N2)
-    nonzero = False
-    for i0 in range(0, N1, step):
-        i1 = min(N1, i0 + step)
-        coeff = composite_coefficients(key, pair, X[i0:i1], Y, dx, dy)
-        if i0 <= nx < i1:
-            coeff[nx - i0, :] = 0.0  # offsets +-nx never occur in the linear convolution
-        coeff[:, ny] = 0.0
-        nonzero = nonzero or bool(np.any(coeff))
-        C[i0:i1] = np.fft.rfft(coeff, axis=1)
+    # columns in natural order (offsets -ny..ny-1), rolled into the wrap-around order below
+    yc = (np.arange(-ny, ny + 1) - 0.5) * dy
+
+    def block(rows) -> bool:
+        i0, i1, k0 = rows
+        xc = (np.arange(k0, k0 + (i1 - i0) + 1) - 0.5) * dx
+        coeff = lattice_coefficients(key, pair, xc, yc)
+        coeff[:, 0] = 0.0  # offset -ny (wrap-around column ny) never occurs in the linear convolution
+        if i0 == nx:
+            coeff[0, :] = 0.0  # nor offset -nx (row nx)
+        coeff = np.roll(coeff, -ny, axis=1)
+        C[i0:i1] = sfft.rfft(coeff, axis=1)
+        return bool(np.any(coeff))
+
+    blocks = list(_row_blocks(nx, step))
+    threads = min(default_workers(), _KERNEL_THREADS, len(blocks))
+    if threads > 1:
+        with ThreadPoolExecutor(max_workers=threads) as pool:
+            nonzero = any(list(pool.map(block, blocks)))
+    else:
+        nonzero = any([block(b) for b in blocks])
     if not nonzero:
         return None
-    C = np.fft.fft(C, axis=0, out=C)
+    # in place (scipy writes into C with overwrite_x: the half-spectrum is the peak), threaded
+    C = sfft.fft(C, axis=0, overwrite_x=True, workers=default_workers())
     imag = real = 0.0
     for i0 in range(0, N1, step):
         blk = C[i0:i0 + step]
