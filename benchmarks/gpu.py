@@ -15,7 +15,11 @@ Cases (``--cases``; sizes with ``--sizes``):
   8192^2 (the window grows with n at fixed cells);
 * ``adhesion``: the rough-ball pull-off of ``examples/pulloff_rough_ball.toml``;
 * ``partial_slip``: the Paper D ramp of ``examples/partial_slip_paper_d.toml``;
-* ``hysteresis``: the loop of ``examples/hysteresis_mindlin.toml``.
+* ``hysteresis``: the loop of ``examples/hysteresis_mindlin.toml``;
+* ``burl_ramp``: the partial-slip ramp of ``burl_whole.py --ramp`` (the whole burl to gross slip,
+  82 um free-boundary window), 2048^2;
+* ``hertz``: the 10 um ball of ``examples/hertz_sphere.toml``-like Hertz contact at 128^2 - 1024^2,
+  where the GPU's fixed costs meet the CPU's time (the small-grid limit ``CUPY_MIN_NODES``).
 
 The first CuPy call of a process compiles kernels; a small warm-up solve runs first and its time is
 reported separately (``warm-up``).  CPU references above ``--cpu-max-n`` are skipped (a 8192^2
@@ -26,6 +30,15 @@ CPU solve takes tens of minutes and ~11 GB); the table then shows "-".
     python benchmarks/gpu.py --dry-run               # check the script on the CPU: "cupy" -> numpy, small sizes
 
 Without CuPy and a CUDA device it says so and exits 0 (``--dry-run`` works anywhere).
+
+The two sides can also run on different machines (a GPU lent for minutes, the CPU reference on
+the machine the CPU targets are set for):
+
+    python benchmarks/gpu.py --save DIR ...          # GPU side only: DIR/gpu_rows.json, DIR/gpu_contacts.npz
+    python benchmarks/gpu.py --against DIR ...       # CPU side only, compared with DIR's GPU runs
+
+``--save`` writes after every case (a run cut short keeps what it finished), records a case that
+fails with its error and goes on, and gives the peak of CuPy's memory pool per case.
 """
 
 from __future__ import annotations
@@ -47,9 +60,10 @@ EXAMPLES = HERE.parent / "examples"
 sys.path.insert(0, str(HERE))
 
 DEFAULT_SIZES = {"normal_pk": [1024, 2048, 4096, 8192], "normal_normcg": [1024, 2048, 4096, 8192],
-                 "burl": [4096, 8192], "adhesion": [None], "partial_slip": [None], "hysteresis": [None]}
+                 "burl": [4096, 8192], "adhesion": [None], "partial_slip": [None], "hysteresis": [None],
+                 "burl_ramp": [2048], "hertz": [128, 256, 512, 1024]}
 DRY_SIZES = {"normal_pk": [128], "normal_normcg": [128], "burl": [256], "adhesion": [None],
-             "partial_slip": [None], "hysteresis": [None]}
+             "partial_slip": [None], "hysteresis": [None], "burl_ramp": [128], "hertz": [64]}
 
 
 def _example(name: str) -> dict:
@@ -70,6 +84,20 @@ def scenario(case: str, n: int | None) -> dict:
                 "load": {"force": 0.01 / (1 - 0.3**2)},
                 "solver": {"method": "polonsky_keer" if case == "normal_pk" else "normcg", "tolerance": 1e-10},
                 "output": quiet_out}
+    if case == "hertz":
+        return {"kind": "normal", "name": f"Hertz ball {n}^2",
+                "grid": {"n": n, "size": "1.2 um", "periodic": False},
+                "body1": {"E": "130 GPa", "nu": 0.28},
+                "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "10 um"}},
+                "load": {"force": "200 uN"}, "solver": {"tolerance": 1e-10}, "output": quiet_out}
+    if case == "burl_ramp":
+        from burl_whole import scenario as burl_scenario
+
+        sc = burl_scenario(n, ramp=True)
+        if n < 1024:  # the dry run: coarser cells, the cutoff at 4 of them
+            sc["body1"]["roughness"]["short_cutoff"] = f"{4 * 82e-6 / n * 1e9:g} nm"
+        sc["output"] = quiet_out
+        return sc
     if case == "burl":
         from burl_whole import scenario as burl_scenario
 
@@ -91,14 +119,29 @@ def scenario(case: str, n: int | None) -> dict:
     return sc
 
 
+_SOLVER_KEYS = ("time", "iterations", "residual", "tangential_iterations", "tangential_residual",
+                "coupling_iterations")
+
+
 def _scalars(summary: dict) -> dict:
-    out = {k: v for k, v in summary.items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
+    """The run's scalar results: run-level numbers and the last state's (solver counters left out)."""
+    def num(v):
+        return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_))
+
+    out = {k: float(v) for k, v in summary.items() if num(v)}
     last = summary["steps"][-1] if summary["steps"] else {}
-    out.update({f"last.{k}": v for k, v in last.items()
-                if isinstance(v, (int, float)) and not isinstance(v, bool)
-                and k not in ("time", "iterations", "residual", "tangential_iterations", "tangential_residual",
-                              "coupling_iterations")})
+    out.update({f"last.{k}": float(v) for k, v in last.items() if num(v) and k not in _SOLVER_KEYS})
     return out
+
+
+def _counts(summary: dict) -> dict:
+    """Solver work of the run: the last state's normal iterations and the totals over the states."""
+    steps = summary["steps"]
+    total = sum(int(s.get("iterations") or 0) for s in steps)
+    tang = sum(int(s.get("tangential_iterations") or 0) for s in steps)
+    return {"states": len(steps), "iterations_last": int(steps[-1].get("iterations") or 0) if steps else 0,
+            "iterations_total": total, "tangential_iterations_total": tang,
+            "converged": bool(summary.get("converged", True))}
 
 
 def run(sc: dict, backend: str, base_dir: Path):
@@ -120,21 +163,159 @@ def _contact(rr):
     return np.asarray(c.get() if hasattr(c, "get") else c, dtype=bool)
 
 
-def compare(a, b) -> dict:
-    """Contact-node and scalar agreement of two runs of one scenario."""
-    ca, cb = _contact(a), _contact(b)
+def _scale(key: str, values: dict) -> float:
+    """The magnitude a value is compared on: a vector component's is its vector's (a y force of
+    1e-24 N beside an x force of 2e-6 N is zero, not a relative difference of 1)."""
+    for a, b in (("_x", "_y"), ("_y", "_x")):
+        if key.endswith(a):
+            return max(abs(values[key]), abs(values.get(key[: -len(a)] + b, 0.0)))
+    return abs(values[key])
+
+
+def agreement(ca, sa: dict, cb, sb: dict) -> dict:
+    """Contact-node and scalar agreement of two runs of one scenario (contact masks, scalars)."""
     nodes = None if ca is None or cb is None else int(np.count_nonzero(ca != cb))
-    sa, sb = _scalars(a.summary), _scalars(b.summary)
     worst, key = 0.0, None
     for k, va in sa.items():
         vb = sb.get(k)
         if vb is None or not np.isfinite(va) or not np.isfinite(vb):
             continue
-        d = abs(va - vb) / max(abs(va), 1e-300)
+        d = abs(va - vb) / max(_scale(k, sa), 1e-300)
         if d > worst:
             worst, key = d, k
     return {"contact_nodes": int(np.count_nonzero(ca)) if ca is not None else None,
             "contact_nodes_differ": nodes, "max_rel_diff": worst, "max_rel_diff_key": key}
+
+
+def compare(a, b) -> dict:
+    """Contact-node and scalar agreement of two runs (run results) of one scenario."""
+    return agreement(_contact(a), _scalars(a.summary), _contact(b), _scalars(b.summary))
+
+
+def _sizes(a, case: str) -> list:
+    if a.sizes and DEFAULT_SIZES[case] != [None]:
+        return a.sizes
+    return (DRY_SIZES if a.dry_run else DEFAULT_SIZES)[case]
+
+
+def _pool_peak_reset():
+    """Free CuPy's pool so that the next case's pool size is its own peak (None without CuPy)."""
+    try:
+        import cupy
+    except ImportError:
+        return None
+    pool = cupy.get_default_memory_pool()
+    pool.free_all_blocks()
+    return pool
+
+
+HEADER = ("| case | n | GPU wall s | CPU s (wall s) | CPU / GPU wall | iterations (last; total, tangential) "
+          "| GPU pool GB | contact nodes | nodes differ | max rel. diff (key) |\n"
+          "|---|---|---|---|---|---|---|---|---|---|")
+
+
+def _line(row: dict) -> str:
+    if "error" in row:
+        return f"| {row['case']} | {row['n']} | failed: {row['error'][:200]} |"
+    has_cpu = "cpu_s" in row
+    cpu = f"{row['cpu_s']:.2f} ({row['cpu_wall_s']:.2f})" if has_cpu else "-"
+    ratio = f"{row['cpu_s'] / row['gpu_wall_s']:.1f}" if has_cpu else "-"
+    diff = f"{row['max_rel_diff']:.1e} ({row['max_rel_diff_key']})" if has_cpu else "-"
+    it = f"{row.get('iterations_last', '-')}; {row.get('iterations_total', '-')}, {row.get('tangential_iterations_total', '-')}"
+    pool = f"{row['gpu_pool_gb']:.2f}" if row.get("gpu_pool_gb") is not None else "-"
+    return (f"| {row['case']} | {row['n']} | {row['gpu_wall_s']:.2f} | {cpu} | {ratio} | {it} | {pool} | "
+            f"{row.get('contact_nodes', '-')} | {row.get('contact_nodes_differ', '-')} | {diff} |")
+
+
+def _save(outdir: Path, meta: dict, rows: list, masks: dict) -> None:
+    outdir.mkdir(parents=True, exist_ok=True)
+    (outdir / "gpu_rows.json").write_text(json.dumps(dict(meta, rows=rows), indent=1))
+    # bit-packed contact masks (an 8192^2 mask: 8 MB before compression)
+    np.savez_compressed(outdir / "gpu_contacts.npz",
+                        **{k: np.packbits(m) for k, m in masks.items()},
+                        **{f"{k}__shape": np.asarray(m.shape) for k, m in masks.items()})
+
+
+def _load_masks(outdir: Path) -> dict:
+    path = outdir / "gpu_contacts.npz"
+    if not path.exists():
+        return {}
+    z = np.load(path)
+    out = {}
+    for k in z.files:
+        if k.endswith("__shape"):
+            continue
+        shape = tuple(int(v) for v in z[f"{k}__shape"])
+        out[k] = np.unpackbits(z[k], count=int(np.prod(shape))).astype(bool).reshape(shape)
+    return out
+
+
+def gpu_side(a, gpu: str, device: str) -> int:
+    """--save: the GPU runs alone, written after every case."""
+    outdir = Path(a.save)
+    meta = {"device": device, "cpu_cores": os.cpu_count()}
+    w0 = time.perf_counter()
+    _, _, warm = run(scenario("normal_normcg", 128), gpu, EXAMPLES)
+    meta["warm_up_s"] = warm
+    print(f"warm-up (128^2 NormCG solve, kernel compilation included): {warm:.2f} s\n")
+    rows, masks = [], {}
+    print(HEADER)
+    for case in a.cases:
+        for n in _sizes(a, case):
+            sc = scenario(case, n)
+            row = {"case": case, "n": n or sc["grid"]["n"]}
+            pool = _pool_peak_reset()
+            try:
+                g, _, g_wall = run(sc, gpu, EXAMPLES)
+            except Exception as exc:  # recorded, and the table goes on
+                import traceback
+
+                traceback.print_exc()
+                row["error"] = f"{type(exc).__name__}: {exc}"
+            else:
+                row.update(gpu_wall_s=g_wall, scalars=_scalars(g.summary), **_counts(g.summary),
+                           timings=g.summary.get("timings", {}),
+                           gpu_pool_gb=None if pool is None else pool.total_bytes() / 1e9,
+                           backend=g.summary.get("problem", {}).get("backend"),
+                           warnings=[str(w)[:300] for w in g.summary.get("warnings", [])])
+                c = _contact(g)
+                if c is not None:
+                    masks[f"{case}_{row['n']}"] = c
+                    row["contact_nodes"] = int(np.count_nonzero(c))
+                del g
+            rows.append(row)
+            print(_line(row), flush=True)
+            meta["elapsed_s"] = time.perf_counter() - w0
+            _save(outdir, meta, rows, masks)
+    return 0
+
+
+def cpu_side(a) -> int:
+    """--against: the CPU runs of the GPU rows saved in a directory, compared with them."""
+    indir = Path(a.against)
+    data = json.loads((indir / "gpu_rows.json").read_text())
+    masks = _load_masks(indir)
+    print(f"## GPU table: {data['device']} (saved runs); CPU: {os.cpu_count()} cores, here\n")
+    print(f"warm-up on the GPU (128^2 NormCG solve, kernel compilation included): {data['warm_up_s']:.2f} s\n")
+    run(scenario("normal_normcg", 128), "numpy", EXAMPLES)  # imports and first-call costs out of the table
+    print(HEADER)
+    rows = []
+    for row in data["rows"]:
+        if row["case"] not in a.cases or "error" in row or row["n"] > a.cpu_max_n \
+                or (a.sizes and DEFAULT_SIZES[row["case"]] != [None] and row["n"] not in a.sizes):
+            rows.append(row)
+            print(_line(row), flush=True)
+            continue
+        n = None if DEFAULT_SIZES[row["case"]] == [None] else row["n"]
+        c, c_cpu, c_wall = run(scenario(row["case"], n), "numpy", EXAMPLES)
+        row = dict(row, cpu_s=c_cpu, cpu_wall_s=c_wall, cpu_counts=_counts(c.summary),
+                   **agreement(_contact(c), _scalars(c.summary), masks.get(f"{row['case']}_{row['n']}"), row["scalars"]))
+        del c
+        rows.append(row)
+        print(_line(row), flush=True)
+        if a.json:
+            Path(a.json).write_text(json.dumps(dict(data, rows=rows, cpu_cores=os.cpu_count()), indent=1))
+    return 0
 
 
 def main(argv=None) -> int:
@@ -144,8 +325,13 @@ def main(argv=None) -> int:
     ap.add_argument("--cpu-max-n", type=int, default=4096, help="skip CPU references above this n")
     ap.add_argument("--dry-run", action="store_true",
                     help="no GPU: run the 'GPU' side on NumPy at small sizes (checks the script)")
+    ap.add_argument("--save", default=None, help="GPU side only: write the runs to this directory")
+    ap.add_argument("--against", default=None, help="CPU side only: compare with the GPU runs saved here")
     ap.add_argument("--json", default=None)
     a = ap.parse_args(argv)
+
+    if a.against:
+        return cpu_side(a)
 
     from tribobem.elasticity import cupy_available
 
@@ -164,30 +350,25 @@ def main(argv=None) -> int:
 
         device = cupy.cuda.runtime.getDeviceProperties(cupy.cuda.Device().id)["name"].decode()
     print(f"## GPU table: {device}; CPU: {os.cpu_count()} cores\n")
+    if a.save:
+        return gpu_side(a, gpu, device)
 
     # warm-up: the first CuPy solve of a process compiles the kernels
     _, _, warm = run(scenario("normal_normcg", 128), gpu, EXAMPLES)
     print(f"warm-up (128^2 NormCG solve, kernel compilation included): {warm:.2f} s\n")
 
     rows = []
-    print("| case | n | GPU wall s | CPU s (wall s) | CPU / GPU wall | contact nodes | nodes differ | max rel. diff (key) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print(HEADER)
     for case in a.cases:
-        sizes = a.sizes if (a.sizes and DEFAULT_SIZES[case] != [None]) else \
-            (DRY_SIZES if a.dry_run else DEFAULT_SIZES)[case]
-        for n in sizes:
+        for n in _sizes(a, case):
             sc = scenario(case, n)
             g, _, g_wall = run(sc, gpu, EXAMPLES)
-            row = {"case": case, "n": n or sc["grid"]["n"], "gpu_wall_s": g_wall}
+            row = {"case": case, "n": n or sc["grid"]["n"], "gpu_wall_s": g_wall, **_counts(g.summary)}
             if n is None or n <= a.cpu_max_n:
                 c, c_cpu, c_wall = run(sc, "numpy", EXAMPLES)
                 row.update(cpu_s=c_cpu, cpu_wall_s=c_wall, **compare(c, g))
             rows.append(row)
-            cpu = f"{row['cpu_s']:.2f} ({row['cpu_wall_s']:.2f})" if "cpu_s" in row else "-"
-            ratio = f"{row['cpu_s'] / g_wall:.1f}" if "cpu_s" in row else "-"
-            diff = (f"{row['max_rel_diff']:.1e} ({row['max_rel_diff_key']})" if "cpu_s" in row else "-")
-            print(f"| {case} | {row['n']} | {g_wall:.2f} | {cpu} | {ratio} | {row.get('contact_nodes', '-')} | "
-                  f"{row.get('contact_nodes_differ', '-')} | {diff} |", flush=True)
+            print(_line(row), flush=True)
     if a.json:
         Path(a.json).write_text(json.dumps({"device": device, "warm_up_s": warm, "rows": rows}, indent=1))
     return 0

@@ -45,8 +45,8 @@ def _hertz(n: int) -> dict:
 
 
 def test_small_grids_requested_on_cupy_run_on_numpy(monkeypatch):
-    """Below CUPY_MIN_NODES a scenario's backend = "cupy" runs on NumPy (kernel compilation would
-    cost more than the solve), and says so; TRIBOBEM_CUPY_MIN_NODES moves the limit."""
+    """Below CUPY_MIN_NODES a scenario's backend = "cupy" runs on NumPy (faster there than a GPU,
+    benchmarks/gpu.py's hertz rows), and says so; TRIBOBEM_CUPY_MIN_NODES moves the limit."""
     from tribobem.scenario import build_problem, parse_scenario
     from tribobem.scenario.build import CUPY_MIN_NODES
 

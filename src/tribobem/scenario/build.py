@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import scipy.fft as sfft
 
 from ..errors import InputError, TopographyError
 from ..grid import Grid
@@ -33,6 +34,7 @@ from ..materials import ContactPair, Material
 from .schema import BodySpec, Scenario
 from .. import geometry as geo
 from ..data import DATA_PREFIX, topography_path
+from ..elasticity.backend import default_workers
 from ..elasticity.operators import make_operator
 from ..geometry import stats as geostats, read_topography, unit_to_metres, Topography
 from ..interactions import DugdaleAdhesion
@@ -528,11 +530,14 @@ def _sphere_radius(sc: Scenario) -> float | None:
     return 1.0 / curv if found else None
 
 
-#: ``[solver] backend = "cupy"`` on grids of fewer nodes is solved with NumPy: there the first
-#: CuPy call's kernel compilation costs more than the whole solve (measured on an H100: 21 s for
-#: the 128^2 Hertz example against 0.7 s on the CPU).  The crossover was not measured on a device
-#: (benchmarks/gpu.py does); env ``TRIBOBEM_CUPY_MIN_NODES`` overrides (0: always CuPy).
-CUPY_MIN_NODES = 256 * 256
+#: ``[solver] backend = "cupy"`` on grids of fewer nodes is solved with NumPy, which is faster
+#: there.  Measured with benchmarks/gpu.py (H100, CuPy 14.2, against 2 CPU cores): a free-boundary
+#: Hertz solve takes 0.34 / 1.08 / 1.65 s on the GPU at 256^2 / 512^2 / 1024^2 against 0.19 /
+#: 0.53 / 2.66 s on the CPU, and the coupled kinds at 64^2-128^2 are 10-15x slower on the GPU
+#: (per-iteration launches and host round trips), 29x faster at 2048^2 (the burl ramp).  The
+#: first CuPy call of a machine also compiles kernels (38 s; 4-5 s in later processes, which read
+#: CuPy's on-disk kernel cache).  Env ``TRIBOBEM_CUPY_MIN_NODES`` overrides (0: always CuPy).
+CUPY_MIN_NODES = 1024 * 1024
 
 
 def _backend_for(requested: str, grid: Grid, info: dict) -> str:
@@ -541,9 +546,8 @@ def _backend_for(requested: str, grid: Grid, info: dict) -> str:
     env = os.environ.get("TRIBOBEM_CUPY_MIN_NODES")
     limit = int(env) if env else CUPY_MIN_NODES
     if requested == "cupy" and grid.nx * grid.ny < limit:
-        info["backend"] = (f"numpy (cupy requested; grids below {limit} nodes run on NumPy, where the first "
-                           f"GPU call's kernel compilation would cost more than the solve; "
-                           f"TRIBOBEM_CUPY_MIN_NODES=0 forces cupy)")
+        info["backend"] = (f"numpy (cupy requested; grids below {limit} nodes run on NumPy, which is faster "
+                           f"there than a GPU; TRIBOBEM_CUPY_MIN_NODES=0 forces cupy)")
         return "numpy"
     info["backend"] = requested
     return requested
@@ -568,6 +572,14 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
     ------
     InputError, TopographyError, MemoryBudgetError, FileNotFoundError
     """
+    # the surfaces' generation and statistics transform full grids (padded, for the statistics
+    # of a free grid): on the solvers' FFT threads, not one (they were a third of the build of a
+    # 4096^2 burl)
+    with sfft.set_workers(default_workers()):
+        return _build_problem(scenario, base_dir)
+
+
+def _build_problem(scenario: Scenario, base_dir) -> Problem:
     sc = scenario
     base = Path(base_dir) if base_dir is not None else Path.cwd()
     loader = _Loader(base)

@@ -801,7 +801,7 @@ class HumiditySpec(Section):
 
 class SolverSpec(Section):
     """``[solver]``: ``tolerance``, ``max_iterations``, ``backend`` (numpy | cupy; cupy grids below
-    256^2 nodes run on NumPy, see ``TRIBOBEM_CUPY_MIN_NODES``), ``kernel``
+    1024^2 nodes run on NumPy, faster there, see ``TRIBOBEM_CUPY_MIN_NODES``), ``kernel``
     (spectral | influence; periodic grids only), ``method`` (auto | polonsky_keer | normcg: the
     normal solver of kind ``normal``, of every coupling pass of kinds ``partial_slip`` and
     ``hysteresis``, and of the meniscus fixed point of the humid runs (``capillary``, and
