@@ -189,3 +189,18 @@ def test_free_and_periodic_agree_for_small_smooth_load_spectral_kernel():
     u_free = free_boundary_operator(gf, ON_RIGID).apply(p)
     u_per = periodic_operator(gp, ON_RIGID, kernel="spectral").apply(p)
     assert _compare_near_patch(u_free, u_per, r < 4 * r0) < 0.01
+
+
+def test_free_boundary_kernel_does_not_depend_on_threads(monkeypatch):
+    """The padded kernel spectra are computed in row blocks on up to 8 threads, the block size
+    shrinking with the threads: the spectra are bitwise the same for any thread count."""
+    from tribobem.elasticity.operators import _padded_kernel_spectrum
+
+    pair = ContactPair(Material(130e9, 0.28), Material(70e9, 0.2))
+    spectra = {}
+    for workers in ("1", "3", "8"):
+        monkeypatch.setenv("TRIBOBEM_FFT_WORKERS", workers)
+        spectra[workers] = [_padded_kernel_spectrum(k, pair, 1000, 300, 1e-8, 2e-8) for k in ("zz", "zx", "xy")]
+    for workers in ("3", "8"):
+        for a, b in zip(spectra["1"], spectra[workers]):
+            np.testing.assert_array_equal(a, b)

@@ -264,7 +264,7 @@ def _free_boundary_cached(grid: Grid, pair: ContactPair, components: tuple, back
 
 #: Rows of the 2nx x 2ny coefficient array computed at a time (about 2^22 points per block).
 _KERNEL_BLOCK_POINTS = 1 << 22
-#: Blocks computed at once, at most (each holds ~8 block-sized arrays: ~270 MB).
+#: Blocks computed at once, at most (threads of the kernel build; its blocks shrink with them).
 _KERNEL_THREADS = 8
 
 
@@ -285,10 +285,13 @@ def _padded_kernel_spectrum(key, pair, nx, ny, dx, dy):
     half-spectrum and a few blocks, not several full 2nx x 2ny arrays (rfft along the last axis,
     then fft along the first: the transforms of ``rfft2``).  The blocks run on the FFT threads
     (at most ``_KERNEL_THREADS``): NumPy's ufuncs release the GIL, and each block writes its own
-    rows, so the numbers do not depend on the thread count."""
+    rows, so the numbers do not depend on the thread count or the block size."""
     N1, N2 = 2 * nx, 2 * ny
     C = np.empty((N1, N2 // 2 + 1), dtype=complex)
-    step = max(1, _KERNEL_BLOCK_POINTS // N2)
+    threads = min(default_workers(), _KERNEL_THREADS)
+    # the blocks in flight together hold about one single-threaded block (the peak stays C + one
+    # block); a block's rows are computed alike whatever its size, so the numbers do not change
+    step = max(1, max(_KERNEL_BLOCK_POINTS // threads, 1 << 18) // N2)
     # columns in natural order (offsets -ny..ny-1), rolled into the wrap-around order below
     yc = (np.arange(-ny, ny + 1) - 0.5) * dy
 
@@ -304,7 +307,7 @@ def _padded_kernel_spectrum(key, pair, nx, ny, dx, dy):
         return bool(np.any(coeff))
 
     blocks = list(_row_blocks(nx, step))
-    threads = min(default_workers(), _KERNEL_THREADS, len(blocks))
+    threads = min(threads, len(blocks))
     if threads > 1:
         with ThreadPoolExecutor(max_workers=threads) as pool:
             nonzero = any(list(pool.map(block, blocks)))
