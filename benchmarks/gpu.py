@@ -313,8 +313,10 @@ def cpu_side(a) -> int:
         del c
         rows.append(row)
         print(_line(row), flush=True)
-        if a.json:
+        if a.json:  # after every CPU run: a long table cut short keeps what it finished
             Path(a.json).write_text(json.dumps(dict(data, rows=rows, cpu_cores=os.cpu_count()), indent=1))
+    if a.json:
+        Path(a.json).write_text(json.dumps(dict(data, rows=rows, cpu_cores=os.cpu_count()), indent=1))
     return 0
 
 

@@ -66,3 +66,33 @@ def test_above_the_limit_cupy_is_still_required(monkeypatch):
     with pytest.raises(InputError, match="CuPy with a working CUDA device is not available") as exc:
         build_problem(parse_scenario(_hertz(64)))
     assert exc.value.field == "solver.backend"
+
+
+def test_save_then_against(tmp_path, capsys, monkeypatch):
+    """The GPU and CPU sides on different machines: --save writes the runs (a failing case is
+    recorded with its error and the table goes on), --against runs the CPU side and compares
+    with the saved contact masks and results."""
+    monkeypatch.setenv("TRIBOBEM_CUPY_MIN_NODES", "0")
+    mod = _module()
+    real_run = mod.run
+
+    def run(sc, backend, base_dir):
+        if sc.get("name", "").startswith("Hertz"):
+            raise RuntimeError("planted failure")
+        return real_run(sc, backend, base_dir)
+
+    monkeypatch.setattr(mod, "run", run)
+    saved = tmp_path / "gpu"
+    assert mod.main(["--dry-run", "--save", str(saved), "--cases", "hertz", "burl_ramp"]) == 0
+    data = json.loads((saved / "gpu_rows.json").read_text())
+    assert [r["case"] for r in data["rows"]] == ["hertz", "burl_ramp"]
+    assert data["rows"][0]["error"] == "RuntimeError: planted failure"
+    assert data["rows"][1]["contact_nodes"] > 0 and "timings" in data["rows"][1]
+    monkeypatch.setattr(mod, "run", real_run)
+    out = tmp_path / "table.json"
+    assert mod.main(["--against", str(saved), "--cases", "hertz", "burl_ramp", "--json", str(out)]) == 0
+    rows = json.loads(out.read_text())["rows"]
+    assert "error" in rows[0] and "cpu_s" not in rows[0]
+    assert rows[1]["contact_nodes_differ"] == 0 and rows[1]["max_rel_diff"] == 0.0
+    text = capsys.readouterr().out
+    assert "| hertz | 64 | failed: RuntimeError: planted failure |" in text
