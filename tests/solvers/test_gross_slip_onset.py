@@ -84,16 +84,24 @@ def test_unused_friction_is_one_minus_q_over_mu_p_for_cattaneo_mindlin():
     assert unused_friction(SimpleNamespace(tangential=t, normal=nr)) == 0.0
 
 
+class _Calls(list):
+    def __init__(self):
+        super().__init__()
+        self.starts = []
+
+
 def _synthetic(G, F0=1.0, mu=1.0):
-    """probe(value) for an indicator G(F) (> 0 with stick, <= 0: gross slip) and its call log."""
-    calls = []
+    """probe(value, start) for an indicator G(F) (> 0 with stick, <= 0: gross slip) and its call
+    log (the probed values; ``calls.starts``: the warm start of each probe)."""
+    calls = _Calls()
 
     def state(value):
-        return SimpleNamespace(G=max(G(value), 0.0), normal=SimpleNamespace(repulsive_force=F0),
+        return SimpleNamespace(F=value, G=max(G(value), 0.0), normal=SimpleNamespace(repulsive_force=F0),
                                tangential=SimpleNamespace(gross_slip=G(value) <= 0))
 
-    def probe(value):
+    def probe(value, start=None, extra=None):
         calls.append(value)
+        calls.starts.append(start)
         s = state(value)
         return s.tangential.gross_slip, (None if s.tangential.gross_slip else s)
 
@@ -111,6 +119,12 @@ def test_onset_search_on_power_laws(monkeypatch, p, onset):
     assert lo <= onset < hi and hi - lo <= 1e-3
     assert not lo_res.tangential.gross_slip and lo_res.G > 0
     assert n == len(calls) <= 4  # the bisection of the 0.2 bracket to 1e-3 takes 8
+    # each probe starts from the nearest state with stick below it: the bracket's lower end
+    below = 0.8
+    for value, start in zip(calls, calls.starts):
+        assert start.F == below and start.F < value
+        if not state(value).tangential.gross_slip:
+            below = value
 
 
 def test_onset_search_survives_a_misleading_indicator(monkeypatch):

@@ -247,9 +247,13 @@ def tangential_ramp(
             hi = failed_value
             base = lo_res if slip == "total" else lo_prev
 
-            def probe(value):
+            def probe(value, start, extra=None):
+                # warm start: the nearest state with stick below the probe (the bracket's lower
+                # end), extrapolated from the one before it; the reference of an incremental
+                # step stays the ramp's
                 try:
-                    res = solve(value, lo_res, ref_of(base) if slip == "incremental" else None)
+                    res = solve(value, start, ref_of(base) if slip == "incremental" else None,
+                                extra if EXTRAPOLATE else None)
                 except GrossSlipError:
                     return True, None
                 return bool(res.tangential.gross_slip), res
@@ -299,7 +303,10 @@ def unused_friction(res: CoupledResult) -> float:
 def _locate_onset(probe, lo, hi, lo_res, before, refine_tol, scale, max_refine, force_control, mu):
     """Shrink the bracket [lo, hi] of the gross-slip onset below ``refine_tol`` x ``scale``.
 
-    ``probe(value)`` solves a state and returns (gross, result); ``before`` is (value, result) of
+    ``probe(value, start, extra)`` solves a state warm-started from ``start`` (the bracket's
+    lower end: the nearest state with stick), extrapolated linearly from the state with stick
+    before it (``extra`` = (that state, w), as on the ramp), and returns (gross, result);
+    ``before`` is (value, result) of
     the state before ``lo_res`` on the ramp, or None.  The onset is estimated by extrapolating
     :func:`unused_friction` to 0 from the nearest states with stick (:func:`_extrapolate_onset`),
     and the probe
@@ -312,8 +319,10 @@ def _locate_onset(probe, lo, hi, lo_res, before, refine_tol, scale, max_refine, 
     Returns (lo, hi, lo_res, number of probes).
     """
     pts = [(lo, unused_friction(lo_res))]
+    below = None  # (value, state) of the state with stick before lo_res: the warm start's slope
     if before is not None and before[0] < lo and not before[1].tangential.gross_slip:
         pts.insert(0, (before[0], unused_friction(before[1])))
+        below = before
     n_ref = 0
     widths = [hi - lo]
     side = 1.0  # the next probe: above (+1) or below (-1) the estimate
@@ -333,18 +342,20 @@ def _locate_onset(probe, lo, hi, lo_res, before, refine_tol, scale, max_refine, 
         value = est + side * 0.45 * need if est is not None else float("nan")
         usable = lo < value < hi  # (False for NaN)
         stalled = len(widths) >= 4 and w > 0.5 * widths[-4]  # three probes without halving it
-        below = usable and side < 0
+        is_below = usable and side < 0
         if not usable or stalled or overshot or w <= 2.0 * need:
-            value, below = 0.5 * (lo + hi), False
+            value, is_below = 0.5 * (lo + hi), False
         value = lo0 + round((value - lo0) / cell) * cell
         value = min(max(value, lo + cell), hi - cell)
-        gross, res = probe(value)
+        extra = (below[1], min((value - lo) / (lo - below[0]), 2.0)) if below is not None else None
+        gross, res = probe(value, lo_res, extra)
         n_ref += 1
         # a probe below the estimate without stick: the estimate is too high, bisect next
-        overshot = gross and below
+        overshot = gross and is_below
         if gross:
             hi, side = value, -1.0
         else:
+            below = (lo, lo_res)
             lo, lo_res, side = value, res, 1.0
             pts.append((value, unused_friction(res)))
         widths.append(hi - lo)
