@@ -306,15 +306,13 @@ def _locate_onset(probe, lo, hi, lo_res, before, refine_tol, scale, max_refine, 
     ``probe(value, start, extra)`` solves a state warm-started from ``start`` (the bracket's
     lower end: the nearest state with stick), extrapolated linearly from the state with stick
     before it (``extra`` = (that state, w), as on the ramp), and returns (gross, result);
-    ``before`` is (value, result) of
-    the state before ``lo_res`` on the ramp, or None.  The onset is estimated by extrapolating
-    :func:`unused_friction` to 0 from the nearest states with stick (:func:`_extrapolate_onset`),
-    and the probe
-    goes 0.45 of the required width beyond the estimate: above it after a state with stick,
-    below it after one without, so that an estimate good to 0.45 of the width closes the
-    bracket in two solves.  A bisection when there is no estimate inside the bracket, when a
-    probe below the estimate had no stick (the estimate is too high), or when the last three
-    probes did not halve the bracket.
+    ``before`` is (value, result) of the state before ``lo_res`` on the ramp, or None.  The
+    onset is estimated by extrapolating :func:`unused_friction` to 0 from the nearest states
+    with stick (:func:`_extrapolate_onset`), and the probe goes 0.45 of the required width
+    beyond the estimate: above it after a state with stick, below it after one without, so that
+    an estimate good to 0.45 of the width closes the bracket in two solves.  A bisection when
+    there is no estimate inside the bracket, when a probe below the estimate had no stick (the
+    estimate is too high), or when the last three probes did not halve the bracket.
 
     Returns (lo, hi, lo_res, number of probes).
     """
