@@ -92,10 +92,10 @@ delta_s are the grid's estimate.  One surface realisation: the 2 um scatter (cen
 edge) is partly statistical, and another seed would move it.
 
 What is weak: one realisation; the 60 nm map for the kinds (spots 3.6 cells); adhesive forces
-grid-set; the whole-burl capillary reference has one unconverged unloading state; the windows are pressed by a flat, so the crown's
-1 nm sag and the pressure gradient across an edge window are absent from them (probably why
-the 10 um edge window's mean gap is 4-5 % low, the only 10 um quantity off by more than 3 %
-apart from pre-sliding and pull-off).
+grid-set; the whole-burl capillary reference has one unconverged unloading state; the windows
+are pressed by a flat, so the crown's 1 nm sag and the pressure gradient across an edge window
+are absent from them (probably why the 10 um edge window's mean gap is 4-5 % low, the only
+10 um quantity off by more than 3 % apart from pre-sliding and pull-off).
 
 Set-up
 ------
