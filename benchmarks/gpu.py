@@ -18,8 +18,8 @@ Cases (``--cases``; sizes with ``--sizes``):
 * ``hysteresis``: the loop of ``examples/hysteresis_mindlin.toml``;
 * ``burl_ramp``: the partial-slip ramp of ``burl_whole.py --ramp`` (the whole burl to gross slip,
   82 um free-boundary window), 2048^2;
-* ``hertz``: the 10 um ball of ``examples/hertz_sphere.toml``-like Hertz contact at 128^2 - 1024^2,
-  where the GPU's fixed costs meet the CPU's time (the small-grid limit ``CUPY_MIN_NODES``).
+* ``hertz``: a rigid 10 um ball on Si (free boundary, 1.2 um window) at 128^2 - 1024^2, where
+  the GPU's fixed costs meet the CPU's time (the small-grid limit ``CUPY_MIN_NODES``).
 
 The first CuPy call of a process compiles kernels; a small warm-up solve runs first and its time is
 reported separately (``warm-up``).  CPU references above ``--cpu-max-n`` are skipped (a 8192^2
@@ -38,7 +38,8 @@ the machine the CPU targets are set for):
     python benchmarks/gpu.py --against DIR ...       # CPU side only, compared with DIR's GPU runs
 
 ``--save`` writes after every case (a run cut short keeps what it finished), records a case that
-fails with its error and goes on, and gives the peak of CuPy's memory pool per case.
+fails with its error and goes on, and gives the memory CuPy's pool holds after each case (the
+operator caches of earlier cases included).
 """
 
 from __future__ import annotations
@@ -199,7 +200,8 @@ def _sizes(a, case: str) -> list:
 
 
 def _pool_peak_reset():
-    """Free CuPy's pool so that the next case's pool size is its own peak (None without CuPy)."""
+    """Free CuPy's unused pool blocks before a case, so that the pool's size after it is what the
+    case used plus what earlier cases still hold (their cached operators); None without CuPy."""
     try:
         import cupy
     except ImportError:
@@ -250,14 +252,11 @@ def _load_masks(outdir: Path) -> dict:
     return out
 
 
-def gpu_side(a, gpu: str, device: str) -> int:
+def gpu_side(a, gpu: str, device: str, warm: float) -> int:
     """--save: the GPU runs alone, written after every case."""
     outdir = Path(a.save)
-    meta = {"device": device, "cpu_cores": os.cpu_count()}
+    meta = {"device": device, "cpu_cores": os.cpu_count(), "warm_up_s": warm}
     w0 = time.perf_counter()
-    _, _, warm = run(scenario("normal_normcg", 128), gpu, EXAMPLES)
-    meta["warm_up_s"] = warm
-    print(f"warm-up (128^2 NormCG solve, kernel compilation included): {warm:.2f} s\n")
     rows, masks = [], {}
     print(HEADER)
     for case in a.cases:
@@ -301,22 +300,19 @@ def cpu_side(a) -> int:
     print(HEADER)
     rows = []
     for row in data["rows"]:
-        if row["case"] not in a.cases or "error" in row or row["n"] > a.cpu_max_n \
-                or (a.sizes and DEFAULT_SIZES[row["case"]] != [None] and row["n"] not in a.sizes):
-            rows.append(row)
-            print(_line(row), flush=True)
-            continue
-        n = None if DEFAULT_SIZES[row["case"]] == [None] else row["n"]
-        c, c_cpu, c_wall = run(scenario(row["case"], n), "numpy", EXAMPLES)
-        row = dict(row, cpu_s=c_cpu, cpu_wall_s=c_wall, cpu_counts=_counts(c.summary),
-                   **agreement(_contact(c), _scalars(c.summary), masks.get(f"{row['case']}_{row['n']}"), row["scalars"]))
-        del c
+        skip = row["case"] not in a.cases or "error" in row or row["n"] > a.cpu_max_n \
+            or (a.sizes and DEFAULT_SIZES[row["case"]] != [None] and row["n"] not in a.sizes)
+        if not skip:
+            n = None if DEFAULT_SIZES[row["case"]] == [None] else row["n"]
+            c, c_cpu, c_wall = run(scenario(row["case"], n), "numpy", EXAMPLES)
+            row = dict(row, cpu_s=c_cpu, cpu_wall_s=c_wall, cpu_counts=_counts(c.summary),
+                       **agreement(_contact(c), _scalars(c.summary), masks.get(f"{row['case']}_{row['n']}"),
+                                   row["scalars"]))
+            del c
         rows.append(row)
         print(_line(row), flush=True)
-        if a.json:  # after every CPU run: a long table cut short keeps what it finished
+        if a.json:  # after every row: a long table cut short keeps what it finished
             Path(a.json).write_text(json.dumps(dict(data, rows=rows, cpu_cores=os.cpu_count()), indent=1))
-    if a.json:
-        Path(a.json).write_text(json.dumps(dict(data, rows=rows, cpu_cores=os.cpu_count()), indent=1))
     return 0
 
 
@@ -352,12 +348,11 @@ def main(argv=None) -> int:
 
         device = cupy.cuda.runtime.getDeviceProperties(cupy.cuda.Device().id)["name"].decode()
     print(f"## GPU table: {device}; CPU: {os.cpu_count()} cores\n")
-    if a.save:
-        return gpu_side(a, gpu, device)
-
     # warm-up: the first CuPy solve of a process compiles the kernels
     _, _, warm = run(scenario("normal_normcg", 128), gpu, EXAMPLES)
     print(f"warm-up (128^2 NormCG solve, kernel compilation included): {warm:.2f} s\n")
+    if a.save:
+        return gpu_side(a, gpu, device, warm)
 
     rows = []
     print(HEADER)
