@@ -17,6 +17,7 @@ the process's peak RSS, contact nodes, the approach and the force balance.
     python benchmarks/burl_whole.py --n 1024 --tracemalloc # + tracemalloc peak of the solve
     python benchmarks/burl_whole.py --ramp                 # partial-slip ramp at 2048^2 (default method)
     python benchmarks/burl_whole.py --ramp --method polonsky_keer   # the same with Polonsky-Keer
+    python benchmarks/burl_whole.py --ramp --onset-by force         # onset probes in force control
     python benchmarks/burl_whole.py --n 1024 --json out.json
 
 ``--coarse L`` passes ``coarse_levels=L`` to ``solve_normal_cg`` (default: its own choice);
@@ -111,8 +112,16 @@ def child_normal(n: int, coarse, compare: bool, trace: bool) -> dict:
     return out
 
 
-def child_ramp(n: int, method: str) -> dict:
+def child_ramp(n: int, method: str, onset_by: str = "displacement") -> dict:
     from tribobem.scenario import run_scenario
+
+    if onset_by != "displacement":
+        # the A/B switch: the onset probes force-controlled (before) instead of displacement-controlled
+        import functools
+
+        from tribobem.runs import partial_slip
+        from tribobem.solvers import slip_paths
+        partial_slip.tangential_ramp = functools.partial(slip_paths.tangential_ramp, onset_by=onset_by)
 
     sc = scenario(n, ramp=True)
     sc["solver"]["method"] = method
@@ -123,11 +132,14 @@ def child_ramp(n: int, method: str) -> dict:
     cpu, wall = time.process_time() - c0, time.perf_counter() - w0
     summ = rr.summary  # run-level values are top-level keys of summary.json
     steps = summ["steps"]
-    return {"n": n, "method": method, "cpu_s": cpu, "wall_s": wall, "peak_rss_gb": _rss_gb(), "steps": len(steps),
+    return {"n": n, "method": method, "onset_by": onset_by,
+            "cpu_s": cpu, "wall_s": wall, "peak_rss_gb": _rss_gb(), "steps": len(steps),
             "converged": bool(summ["converged"]),
             "iterations": [s.get("iterations") for s in steps],
             "coupling_iterations": [s.get("coupling_iterations") for s in steps],
             "static_friction_ratio": summ.get("static_friction_ratio"),
+            "onset_refinement_steps": summ.get("onset_refinement_steps"),
+            "ramp_message": summ.get("ramp_message"),
             "presliding_displacement_nm": (summ.get("presliding_displacement") or float("nan")) * 1e9,
             "contact_nodes": [s.get("contact_nodes") for s in steps][:1],
             "warnings": summ.get("warnings", [])}
@@ -141,6 +153,8 @@ def main(argv=None) -> int:
     ap.add_argument("--tracemalloc", action="store_true")
     ap.add_argument("--ramp", action="store_true", help="the partial-slip ramp at 2048^2 (or --n)")
     ap.add_argument("--method", default="auto", help="[solver] method of the ramp (auto, normcg, polonsky_keer)")
+    ap.add_argument("--onset-by", default="displacement", choices=["displacement", "force"],
+                    help="ramp: control of the onset probes")
     ap.add_argument("--threads", type=int, default=None)
     ap.add_argument("--json", default=None)
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -148,7 +162,10 @@ def main(argv=None) -> int:
 
     if a.child is not None:
         n = int(a.child)
-        out = child_ramp(n, a.method) if a.ramp else child_normal(n, a.coarse, a.compare, a.tracemalloc)
+        if a.ramp:
+            out = child_ramp(n, a.method, a.onset_by)
+        else:
+            out = child_normal(n, a.coarse, a.compare, a.tracemalloc)
         print("RESULT " + json.dumps(out))
         return 0
 
@@ -162,7 +179,7 @@ def main(argv=None) -> int:
         if a.coarse is not None:
             cmd += ["--coarse", str(a.coarse)]
         cmd += ["--compare"] * a.compare + ["--tracemalloc"] * a.tracemalloc + ["--ramp"] * a.ramp
-        cmd += ["--method", a.method]
+        cmd += ["--method", a.method, "--onset-by", a.onset_by]
         load0 = os.getloadavg()[0]
         proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
         line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")]

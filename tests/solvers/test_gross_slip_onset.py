@@ -7,8 +7,11 @@
 * ``_locate_onset``: on synthetic indicators G = C (F* - F)^p the bracket closes around F* within
   the required width in at most 4 probes (bisection: 7); on an indicator that misleads the
   extrapolation it still closes (bisection fallback).
+* ``_locate_onset_displacement``: displacement-controlled probes on a synthetic ramp bracket
+  the onset in force within the required width (with and without the estimate).
 * ``tangential_ramp`` on Paper D 3.1 (32^2): the same onset as a pure bisection, within the
-  required width, in fewer solves.
+  required width, in fewer solves; with displacement-controlled probes (the default) the
+  brackets overlap the force bisection's.
 """
 
 from __future__ import annotations
@@ -143,10 +146,79 @@ def test_onset_search_survives_a_misleading_indicator(monkeypatch):
     assert n <= 12
 
 
-def test_ramp_onset_equals_the_bisection(monkeypatch):
+def _synthetic_displacement(d_star, p, Q_star=0.985, slope_above=0.02):
+    """probe(delta, start, extra) on a synthetic displacement ramp: G = 0.3 (d* - d)^p below the
+    onset d*, Q(d) rising as Cattaneo-Mindlin's 1 - (1 - d/d*)^1.5 scaled to Q* at d* and then
+    slowly (``slope_above``) beyond it; with the call log."""
+    calls = []
+
+    def Q(d):
+        if d < d_star:
+            return Q_star * (1.0 - (1.0 - d / d_star) ** 1.5) / 1.0
+        return Q_star + slope_above * (d - d_star)
+
+    def state(d):
+        gross = d >= d_star
+        return SimpleNamespace(d=d, Q=Q(d), G=0.0 if gross else 0.3 * (d_star - d) ** p,
+                               normal=SimpleNamespace(repulsive_force=1.0),
+                               tangential=SimpleNamespace(gross_slip=gross))
+
+    def probe(d, start=None, extra=None):
+        calls.append((d, start))
+        s = state(d)
+        return s.tangential.gross_slip, s
+
+    return probe, state, calls
+
+
+@pytest.mark.parametrize("p", [1.0, 1.5])
+@pytest.mark.parametrize("d_star", [0.93, 1.0, 1.3])
+@pytest.mark.parametrize("estimate", [True, False])
+def test_displacement_onset_search_brackets_the_force(monkeypatch, p, d_star, estimate):
+    monkeypatch.setattr(slip_paths, "unused_friction", lambda res: res.G)
+    if not estimate:
+        monkeypatch.setattr(slip_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection in delta
+    probe, state, calls = _synthetic_displacement(d_star, p)
+    Q_star = state(d_star).Q
+    # the force ramp: last step with stick at delta = 0.7 (before it 0.6), first without at Q = 1
+    lo, before = state(0.7), state(0.6)
+    q_lo, q_hi, lo_res, n = slip_paths._locate_onset_displacement(
+        probe, lo, before, 1.0, 1e-3, 1.0, 40, lambda r: r.d, lambda r: r.Q, 0.0)
+    assert q_lo <= Q_star < q_hi and q_hi - q_lo <= 1e-3
+    assert not lo_res.tangential.gross_slip and lo_res.Q == q_lo
+    assert n == len(calls) <= (4 if estimate else 8)  # measured: 2-3 and 6
+    # each probe starts from the nearest state with stick below it
+    below = 0.7
+    for d, start in calls:
+        assert start.d == below < d
+        if d < d_star:
+            below = d
+
+
+def test_ramp_onset_in_displacement_equals_the_force_bisection(monkeypatch):
     grid, gap, op, pair, a, F0 = paper_d_problem(32)
     forces = [0.0, 0.5e-6, 1.0e-6, 1.5e-6, 2.0e-6]
     kw = dict(normal_force=F0, friction_coefficient=MU_D, forces=forces, refine_tol=1e-3)
+    smart = tangential_ramp(op, gap, **kw)
+    assert "displacement-controlled probes" in smart.message
+    monkeypatch.setattr(slip_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection
+    plain = tangential_ramp(op, gap, onset_by="force", **kw)
+    assert "displacement-controlled" not in plain.message
+    need = 1e-3 * MU_D * smart.onset_state.normal.repulsive_force
+    (l1, h1), (l2, h2) = smart.onset_bracket, plain.onset_bracket
+    assert h1 - l1 <= need and h2 - l2 <= need
+    assert max(l1, l2) < min(h1, h2)  # the brackets overlap: the same onset
+    assert abs(smart.onset - plain.onset) <= need
+    # the state at the lower end: its force is the bracket's, and the same pre-sliding curve
+    assert smart.onset_state.tangential.force_x == pytest.approx(l1, rel=1e-9)
+    assert math.isclose(smart.onset_ratio, plain.onset_ratio, rel_tol=2e-3)
+    assert math.isclose(smart.presliding_displacement, plain.presliding_displacement, rel_tol=2e-2)
+
+
+def test_ramp_onset_equals_the_bisection(monkeypatch):
+    grid, gap, op, pair, a, F0 = paper_d_problem(32)
+    forces = [0.0, 0.5e-6, 1.0e-6, 1.5e-6, 2.0e-6]
+    kw = dict(normal_force=F0, friction_coefficient=MU_D, forces=forces, refine_tol=1e-3, onset_by="force")
     smart = tangential_ramp(op, gap, **kw)
     monkeypatch.setattr(slip_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection
     plain = tangential_ramp(op, gap, **kw)
@@ -172,3 +244,4 @@ def test_force_at_mu_fn_without_adhesion_is_gross_slip_before_any_solve(paper_d_
             solve_coupled(op, gap, friction_coefficient=MU_D, normal_force=F0, tangential_force=f, initial=z)
         assert err.value.max_force == pytest.approx(MU_D * F0, rel=1e-12)
     assert calls == []  # known without a solve: the contact carries exactly F_N
+

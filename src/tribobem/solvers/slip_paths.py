@@ -4,9 +4,10 @@
   each step solved by the coupling loop (Paper D).  The ramp ends at gross slip (no stick node
   left, or a force beyond mu F0+): that is a result, not an error.  The gross-slip onset is
   then bracketed between the last step with stick and the first without, to ``refine_tol`` x
-  mu F0+ (not the first listed step whose stick area is zero), by :func:`_locate_onset`: an
-  extrapolation of the friction still unused in the stick zone (:func:`unused_friction`) to
-  zero, with a bisection safeguard.
+  mu F0+ (not the first listed step whose stick area is zero): an extrapolation of the
+  friction still unused in the stick zone (:func:`unused_friction`) to zero, with a bisection
+  safeguard, probing displacement-controlled states (:func:`_locate_onset_displacement`, the
+  default for a force ramp in total slip) or force-controlled ones (:func:`_locate_onset`).
 * :func:`normal_path`: a normal-load path with friction and the incremental slip criterion
   (Paper E Eq. 5): the relative displacement of each step is the reference of the next, so
   the history of the tangential state is carried (Spence's self-similar stick zone under
@@ -146,6 +147,7 @@ def tangential_ramp(
     max_refine: int = 40,
     progress: Callable[[int, int], None] | None = None,
     initial: CoupledResult | None = None,
+    onset_by: str = "displacement",
     **solver_kw,
 ) -> SlipRamp:
     """Ramp the tangential load at a fixed normal force until gross slip.
@@ -175,6 +177,14 @@ def tangential_ramp(
     initial : CoupledResult, optional
         Warm start of the first solve (e.g. the F_t = 0 state of the previous RH); only the
         iterations start from it, never the slip reference.
+    onset_by : {"displacement", "force"}
+        How a force ramp (total slip) brackets its onset: with displacement-controlled probes
+        (default; :func:`_locate_onset_displacement`) or force-controlled ones
+        (:func:`_locate_onset`).  Both bracket the same onset in force; the displacement-controlled
+        states stay well posed when only a few nodes stick, where a force-controlled solve, whose
+        rigid displacement is the multiplier of the force, needs several times the iterations of
+        a ramp step (a rough burl at 2048^2: 300-400 TangCG iterations per probe against ~20).
+        An incremental-slip ramp always probes in force (its reference is the ramp's).
     **solver_kw
         Passed to :func:`~tribobem.solvers.coupling.solve_coupled` (tol, tangential_tol, ...).
 
@@ -186,6 +196,8 @@ def tangential_ramp(
         raise InputError("friction", "give exactly one of tangential_forces or tangential_displacements")
     if slip not in ("total", "incremental"):
         raise InputError("friction.slip", f"must be 'total' or 'incremental', got {slip!r}")
+    if onset_by not in ("displacement", "force"):
+        raise InputError("onset_by", f"must be 'displacement' or 'force', got {onset_by!r}")
     if not (isinstance(refine_tol, float) and 0 < refine_tol < 1):
         raise InputError("refine_tol", f"must be in (0, 1), got {refine_tol!r}")
     e = direction_vector(direction)
@@ -260,8 +272,25 @@ def tangential_ramp(
 
             scale = (mu * lo_res.normal.repulsive_force) if control == "force" else max(abs(hi), 1e-300)
             before = (prev_value, lo_prev) if prev_value is not None and lo_prev is not None else None
-            lo, hi, lo_res, n_ref = _locate_onset(probe, lo, hi, lo_res, before, refine_tol, scale, max_refine,
-                                                  control == "force", mu)
+            by_displacement = control == "force" and slip == "total" and onset_by == "displacement"
+            if by_displacement:
+                def probe_d(value, start, extra=None):
+                    # a displacement-controlled state: the same equilibria as the force ramp's
+                    # (total slip), well posed when only a few nodes stick
+                    res = solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
+                                        interaction=interaction, initial=start,
+                                        extrapolate=extra if EXTRAPOLATE else None,
+                                        tangential_displacement=tuple(value * e), **solver_kw)
+                    return bool(res.tangential.gross_slip), res
+
+                origin = ramp.zero_state if ramp.zero_state is not None else lo_res
+                lo, hi, lo_res, n_ref = _locate_onset_displacement(
+                    probe_d, lo_res, lo_prev if prev_value is not None else None, hi, refine_tol, mu, max_refine,
+                    lambda r: _along(r, e, "displacement"), lambda r: _along(r, e, "force"),
+                    _along(origin, e, "displacement"))
+            else:
+                lo, hi, lo_res, n_ref = _locate_onset(probe, lo, hi, lo_res, before, refine_tol, scale, max_refine,
+                                                      control == "force", mu)
             ramp.refine_steps = n_ref
             ramp.onset_bracket = (lo, hi)
             ramp.onset_state = lo_res
@@ -273,7 +302,8 @@ def tangential_ramp(
             ramp.onset_ratio = ramp.onset / (mu * lo_res.normal.repulsive_force) if mu > 0 else float("nan")
             if ramp.zero_state is not None:
                 ramp.presliding_displacement = _along(lo_res, e, "displacement") - _along(ramp.zero_state, e, "displacement")
-            ramp.message += f"; onset located to {abs(hi - lo):.3g} after {n_ref} refinement solves"
+            how = " (displacement-controlled probes)" if by_displacement else ""
+            ramp.message += f"; onset located to {abs(hi - lo):.3g} after {n_ref} refinement solves{how}"
         elif ramp.gross_slip and failed_value is not None and not ramp.steps:
             ramp.message += " (the first step already slips grossly: no onset bracket)"
     return ramp
@@ -358,6 +388,113 @@ def _locate_onset(probe, lo, hi, lo_res, before, refine_tol, scale, max_refine, 
             pts.append((value, unused_friction(res)))
         widths.append(hi - lo)
     return lo, hi, lo_res, n_ref
+
+
+def _locate_onset_displacement(probe, lo_res, before, q_hi, refine_tol, mu, max_refine, along_d, along_f, origin):
+    """Bracket the gross-slip onset of a force ramp with displacement-controlled probes.
+
+    A force ramp in total slip has the same equilibria as a displacement ramp: a state with
+    stick at rigid displacement delta carries the force Q(delta), which rises with delta up to
+    the onset, where the last stick node slips, and keeps rising slowly beyond it (the slip
+    directions align).  So a displacement-controlled probe with stick gives a lower end of the
+    bracket in force, Q(delta), and one without stick an upper end; the search stops when
+    ``q_hi - q_lo`` (N) is below ``refine_tol`` x mu F0+, as the force search does.
+
+    The displacement of the onset is estimated by extrapolating :func:`unused_friction` to 0
+    against delta (:func:`_extrapolate_onset`: G falls as (delta* - delta)^1.5 for
+    Cattaneo-Mindlin), and each probe goes 0.45 of the required width (the force width over
+    the slope of Q(delta)) above the estimate after a state with stick, below it after one
+    without; a bisection in delta when the estimate leaves the bracket, misleads, or the last
+    three probes did not halve it.  Before any probe without stick the upper end is the force
+    ramp's first value without stick (``q_hi``).
+
+    Parameters
+    ----------
+    probe : callable
+        ``probe(delta, start, extra) -> (gross, result)``: the state at rigid displacement
+        delta (m along the ramp), warm-started from ``start`` and extrapolated with ``extra``
+        = (older state, w) as the ramp's steps are.
+    lo_res, before : CoupledResult
+        The ramp's last state with stick, and the one before it (or None).
+    q_hi : float
+        The ramp's first force without stick (N).
+    along_d, along_f : callable
+        A state's rigid displacement (m) and force (N) along the ramp.
+    origin : float
+        delta of the state at zero tangential force (m).
+
+    Returns
+    -------
+    (q_lo, q_hi, lo_res, number of probes)
+    """
+    d_lo, q_lo = along_d(lo_res), along_f(lo_res)
+    pts = [(d_lo, unused_friction(lo_res))]
+    below = None  # the state with stick before lo_res: the slope and the warm start's extrapolation
+    if before is not None and not before.tangential.gross_slip and along_d(before) < d_lo:
+        pts.insert(0, (along_d(before), unused_friction(before)))
+        below = before
+    span = d_lo - origin  # the pre-sliding displacement so far (> 0 on a ramp with stick)
+    if not (math.isfinite(span) and span > 0):
+        span = max(abs(d_lo), 1e-300)
+    # probes on a fine grid (2^-20 of the pre-sliding displacement so far): states that differ
+    # by round-off (e.g. mirrored bodies) make the same probes
+    d0, cell = d_lo, span * 2.0 ** -20
+    d_hi = None
+    n_ref = 0
+    side = 1.0
+    overshot = False
+    widths = []
+    while True:
+        need = refine_tol * mu * lo_res.normal.repulsive_force
+        if q_hi - q_lo <= need or n_ref >= max_refine:
+            break
+        # slope of Q(delta) (N/m): across the bracket once it has a displacement-controlled upper
+        # end, else the secant of the last two states with stick (larger than near the onset:
+        # the margin errs small, the bracket closes in force all the same)
+        if d_hi is not None:
+            k = (q_hi - q_lo) / (d_hi - d_lo)
+        elif below is not None and d_lo > along_d(below):
+            k = (q_lo - along_f(below)) / (d_lo - along_d(below))
+        else:
+            k = q_lo / span
+        k = k if (math.isfinite(k) and k > 0) else q_lo / span
+        margin = 0.45 * need / k
+        est = _extrapolate_onset(pts)
+        is_below = False
+        if d_hi is None:
+            # no upper end in delta yet: just above the estimate (or half the pre-sliding so far
+            # beyond the last state with stick when there is none), at most that far
+            if est is None or not est > d_lo:
+                value = d_lo + 0.5 * span
+            else:
+                value = min(est + margin, d_lo + 0.5 * span)
+        else:
+            w = d_hi - d_lo
+            value = est + side * margin if est is not None else float("nan")
+            usable = d_lo < value < d_hi
+            stalled = len(widths) >= 4 and w > 0.5 * widths[-4]
+            is_below = usable and side < 0
+            if not usable or stalled or overshot or q_hi - q_lo <= 2.0 * need:
+                value, is_below = 0.5 * (d_lo + d_hi), False
+        value = d0 + round((value - d0) / cell) * cell
+        value = max(value, d_lo + cell)
+        if d_hi is not None:
+            value = min(value, d_hi - cell)
+            if value <= d_lo:  # the bracket is one grid cell wide in delta: it cannot shrink further
+                break
+        extra = (below, min((value - d_lo) / (d_lo - along_d(below)), 2.0)) if below is not None else None
+        gross, res = probe(value, lo_res, extra)
+        n_ref += 1
+        overshot = gross and is_below
+        if gross:
+            d_hi, side = value, -1.0
+            q_hi = min(q_hi, along_f(res))
+        else:
+            below = lo_res
+            d_lo, q_lo, lo_res, side = value, along_f(res), res, 1.0
+            pts.append((value, unused_friction(res)))
+        widths.append((d_hi - d_lo) if d_hi is not None else float("inf"))
+    return q_lo, q_hi, lo_res, n_ref
 
 
 def _extrapolate_onset(pts):
