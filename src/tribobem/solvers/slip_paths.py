@@ -272,18 +272,25 @@ def tangential_ramp(
 
             scale = (mu * lo_res.normal.repulsive_force) if control == "force" else max(abs(hi), 1e-300)
             before = (prev_value, lo_prev) if prev_value is not None and lo_prev is not None else None
-            by_displacement = control == "force" and slip == "total" and onset_by == "displacement"
+            origin = ramp.zero_state if ramp.zero_state is not None else lo_res
+            # displacement-controlled probes need a state with stick that carries a force and has
+            # moved from the origin (the scale of the first probe); else the force search
+            by_displacement = (control == "force" and slip == "total" and onset_by == "displacement"
+                               and _along(lo_res, e, "force") > 0
+                               and _along(lo_res, e, "displacement") > _along(origin, e, "displacement"))
             if by_displacement:
                 def probe_d(value, start, extra=None):
                     # a displacement-controlled state: the same equilibria as the force ramp's
                     # (total slip), well posed when only a few nodes stick
-                    res = solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
-                                        interaction=interaction, initial=start,
-                                        extrapolate=extra if EXTRAPOLATE else None,
-                                        tangential_displacement=tuple(value * e), **solver_kw)
+                    try:
+                        res = solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
+                                            interaction=interaction, initial=start,
+                                            extrapolate=extra if EXTRAPOLATE else None,
+                                            tangential_displacement=tuple(value * e), **solver_kw)
+                    except GrossSlipError:
+                        return True, None
                     return bool(res.tangential.gross_slip), res
 
-                origin = ramp.zero_state if ramp.zero_state is not None else lo_res
                 lo, hi, lo_res, n_ref = _locate_onset_displacement(
                     probe_d, lo_res, lo_prev if prev_value is not None else None, hi, refine_tol, mu, max_refine,
                     lambda r: _along(r, e, "displacement"), lambda r: _along(r, e, "force"),
@@ -413,7 +420,7 @@ def _locate_onset_displacement(probe, lo_res, before, q_hi, refine_tol, mu, max_
     probe : callable
         ``probe(delta, start, extra) -> (gross, result)``: the state at rigid displacement
         delta (m along the ramp), warm-started from ``start`` and extrapolated with ``extra``
-        = (older state, w) as the ramp's steps are.
+        = (older state, w) as the ramp's steps are (result None: no state, gross slip).
     lo_res, before : CoupledResult
         The ramp's last state with stick, and the one before it (or None).
     q_hi : float
@@ -464,10 +471,11 @@ def _locate_onset_displacement(probe, lo_res, before, q_hi, refine_tol, mu, max_
         if d_hi is None:
             # no upper end in delta yet: just above the estimate (or half the pre-sliding so far
             # beyond the last state with stick when there is none), at most that far
+            reach = 0.5 * max(d_lo - origin, span)
             if est is None or not est > d_lo:
-                value = d_lo + 0.5 * span
+                value = d_lo + reach
             else:
-                value = min(est + margin, d_lo + 0.5 * span)
+                value = min(est + margin, d_lo + reach)
         else:
             w = d_hi - d_lo
             value = est + side * margin if est is not None else float("nan")
@@ -488,7 +496,8 @@ def _locate_onset_displacement(probe, lo_res, before, q_hi, refine_tol, mu, max_
         overshot = gross and is_below
         if gross:
             d_hi, side = value, -1.0
-            q_hi = min(q_hi, along_f(res))
+            if res is not None:
+                q_hi = min(q_hi, along_f(res))
         else:
             below = lo_res
             d_lo, q_lo, lo_res, side = value, along_f(res), res, 1.0
