@@ -10,8 +10,8 @@
 * ``_locate_onset_displacement``: displacement-controlled probes on a synthetic ramp bracket
   the onset in force within the required width (with and without the estimate).
 * ``tangential_ramp`` on Paper D 3.1 (32^2): the same onset as a pure bisection, within the
-  required width, in fewer solves; with displacement-controlled probes (the default) the
-  brackets overlap the force bisection's.
+  required width, in fewer solves; with displacement-controlled probes (the default from
+  512^2 nodes, asked for here) the brackets overlap the force bisection's.
 """
 
 from __future__ import annotations
@@ -199,11 +199,14 @@ def test_ramp_onset_in_displacement_equals_the_force_bisection(monkeypatch):
     grid, gap, op, pair, a, F0 = paper_d_problem(32)
     forces = [0.0, 0.5e-6, 1.0e-6, 1.5e-6, 2.0e-6]
     kw = dict(normal_force=F0, friction_coefficient=MU_D, forces=forces, refine_tol=1e-3)
-    smart = tangential_ramp(op, gap, **kw)
+    auto = tangential_ramp(op, gap, **kw)  # 32^2: below DISPLACEMENT_ONSET_NODES, the force search
+    assert "displacement-controlled" not in auto.message
+    smart = tangential_ramp(op, gap, onset_by="displacement", **kw)
     assert "displacement-controlled probes" in smart.message
     monkeypatch.setattr(slip_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection
     plain = tangential_ramp(op, gap, onset_by="force", **kw)
     assert "displacement-controlled" not in plain.message
+    assert auto.onset_bracket != smart.onset_bracket
     need = 1e-3 * MU_D * smart.onset_state.normal.repulsive_force
     (l1, h1), (l2, h2) = smart.onset_bracket, plain.onset_bracket
     assert h1 - l1 <= need and h2 - l2 <= need

@@ -147,7 +147,7 @@ def tangential_ramp(
     max_refine: int = 40,
     progress: Callable[[int, int], None] | None = None,
     initial: CoupledResult | None = None,
-    onset_by: str = "displacement",
+    onset_by: str = "auto",
     **solver_kw,
 ) -> SlipRamp:
     """Ramp the tangential load at a fixed normal force until gross slip.
@@ -177,14 +177,19 @@ def tangential_ramp(
     initial : CoupledResult, optional
         Warm start of the first solve (e.g. the F_t = 0 state of the previous RH); only the
         iterations start from it, never the slip reference.
-    onset_by : {"displacement", "force"}
+    onset_by : {"auto", "displacement", "force"}
         How a force ramp (total slip) brackets its onset: with displacement-controlled probes
-        (default; :func:`_locate_onset_displacement`) or force-controlled ones
-        (:func:`_locate_onset`).  Both bracket the same onset in force; the displacement-controlled
-        states stay well posed when only a few nodes stick, where a force-controlled solve, whose
-        rigid displacement is the multiplier of the force, needs several times the iterations of
-        a ramp step (a rough burl at 2048^2: 300-400 TangCG iterations per probe against ~20).
-        An incremental-slip ramp always probes in force (its reference is the ramp's).
+        (:func:`_locate_onset_displacement`) or force-controlled ones (:func:`_locate_onset`);
+        "auto" (default): displacement-controlled on grids of at least ``DISPLACEMENT_ONSET_NODES``
+        nodes, force-controlled below.  Both bracket the same onset in force.  The
+        displacement-controlled states stay well posed when only a few nodes stick, where a
+        force-controlled solve, whose rigid displacement is the multiplier of the force, needs
+        several times the iterations of a ramp step (a rough burl at 2048^2: 300-400 TangCG
+        iterations per probe against 18-54).  The force search probes a dyadic grid of forces,
+        so two runs that differ by round-off (mirrored bodies, a humid law equal to the dry one)
+        give the same bracket to the last digit; the ends of a displacement-controlled bracket
+        are solved forces, equal to the solvers' tolerance.  An incremental-slip ramp always
+        probes in force (its reference is the ramp's).
     **solver_kw
         Passed to :func:`~tribobem.solvers.coupling.solve_coupled` (tol, tangential_tol, ...).
 
@@ -196,8 +201,8 @@ def tangential_ramp(
         raise InputError("friction", "give exactly one of tangential_forces or tangential_displacements")
     if slip not in ("total", "incremental"):
         raise InputError("friction.slip", f"must be 'total' or 'incremental', got {slip!r}")
-    if onset_by not in ("displacement", "force"):
-        raise InputError("onset_by", f"must be 'displacement' or 'force', got {onset_by!r}")
+    if onset_by not in ("auto", "displacement", "force"):
+        raise InputError("onset_by", f"must be 'auto', 'displacement' or 'force', got {onset_by!r}")
     if not (isinstance(refine_tol, float) and 0 < refine_tol < 1):
         raise InputError("refine_tol", f"must be in (0, 1), got {refine_tol!r}")
     e = direction_vector(direction)
@@ -275,7 +280,8 @@ def tangential_ramp(
             origin = ramp.zero_state if ramp.zero_state is not None else lo_res
             # displacement-controlled probes need a state with stick that carries a force and has
             # moved from the origin (the scale of the first probe); else the force search
-            by_displacement = (control == "force" and slip == "total" and onset_by == "displacement"
+            wants = onset_by == "displacement" or (onset_by == "auto" and _large_grid(operator))
+            by_displacement = (control == "force" and slip == "total" and wants
                                and _along(lo_res, e, "force") > 0
                                and _along(lo_res, e, "displacement") > _along(origin, e, "displacement"))
             if by_displacement:
@@ -314,6 +320,21 @@ def tangential_ramp(
         elif ramp.gross_slip and failed_value is not None and not ramp.steps:
             ramp.message += " (the first step already slips grossly: no onset bracket)"
     return ramp
+
+
+#: ``tangential_ramp(onset_by="auto")`` probes the onset in displacement control on grids of at
+#: least this many nodes.  Measured on the whole-burl ramp (benchmarks/README.md): the ramp's CPU
+#: time 0.85x at 512^2, 0.87x at 1024^2, 0.62x at 2048^2; on small grids the probes cost little
+#: either way and the force search's bracket is reproducible to the last digit.
+DISPLACEMENT_ONSET_NODES = 512 * 512
+
+
+def _large_grid(operator) -> bool:
+    grid = getattr(operator, "grid", None)
+    if grid is None:
+        return False
+    nx, ny = grid.shape
+    return nx * ny >= DISPLACEMENT_ONSET_NODES
 
 
 def unused_friction(res: CoupledResult) -> float:
@@ -409,10 +430,11 @@ def _locate_onset_displacement(probe, lo_res, before, q_hi, refine_tol, mu, max_
 
     The displacement of the onset is estimated by extrapolating :func:`unused_friction` to 0
     against delta (:func:`_extrapolate_onset`: G falls as (delta* - delta)^1.5 for
-    Cattaneo-Mindlin), and each probe goes 0.45 of the required width (the force width over
+    Cattaneo-Mindlin), and each probe goes 0.35 of the required width (the force width over
     the slope of Q(delta)) above the estimate after a state with stick, below it after one
-    without; a bisection in delta when the estimate leaves the bracket, misleads, or the last
-    three probes did not halve it.  Before any probe without stick the upper end is the force
+    without (0.35: a pair around a good estimate closes the bracket at ~0.7 of the width, clear
+    of the stopping threshold); a bisection in delta when the estimate leaves the bracket,
+    misleads, or the last three probes did not halve it.  Before any probe without stick the upper end is the force
     ramp's first value without stick (``q_hi``).
 
     Parameters
@@ -443,9 +465,15 @@ def _locate_onset_displacement(probe, lo_res, before, q_hi, refine_tol, mu, max_
     span = d_lo - origin  # the pre-sliding displacement so far (> 0 on a ramp with stick)
     if not (math.isfinite(span) and span > 0):
         span = max(abs(d_lo), 1e-300)
-    # probes on a fine grid (2^-20 of the pre-sliding displacement so far): states that differ
-    # by round-off (e.g. mirrored bodies) make the same probes
-    d0, cell = d_lo, span * 2.0 ** -20
+    # Probes on a grid of delta: a power-of-two fraction of the pre-sliding displacement so far,
+    # at most 1/16 of the required width at the secant slope q_lo / span (steeper than near the
+    # onset: finer than needed).  States that differ by round-off (mirrored bodies, a humid law
+    # that is the dry one) then make the same probes unless an estimate falls within round-off
+    # of a cell boundary.
+    need0 = refine_tol * mu * lo_res.normal.repulsive_force
+    width0 = need0 * span / q_lo if q_lo > 0 else span * 2.0 ** -20
+    levels = min(max(math.ceil(math.log2(16.0 * span / max(width0, 1e-300))), 4), 40)
+    d0, cell = d_lo, span * 2.0 ** -levels
     d_hi = None
     n_ref = 0
     side = 1.0
@@ -465,9 +493,12 @@ def _locate_onset_displacement(probe, lo_res, before, q_hi, refine_tol, mu, max_
         else:
             k = q_lo / span
         k = k if (math.isfinite(k) and k > 0) else q_lo / span
-        margin = 0.45 * need / k
+        # 0.35 of the width on each side: a pair of probes around a good estimate closes the
+        # bracket at ~0.7 of the required width, clear of the stopping test's threshold, so that
+        # equal searches do not part over round-off in the forces
+        margin = 0.35 * need / k
         est = _extrapolate_onset(pts)
-        is_below = False
+        is_below = bisect = False
         if d_hi is None:
             # no upper end in delta yet: just above the estimate (or half the pre-sliding so far
             # beyond the last state with stick when there is none), at most that far
@@ -483,13 +514,20 @@ def _locate_onset_displacement(probe, lo_res, before, q_hi, refine_tol, mu, max_
             stalled = len(widths) >= 4 and w > 0.5 * widths[-4]
             is_below = usable and side < 0
             if not usable or stalled or overshot or q_hi - q_lo <= 2.0 * need:
-                value, is_below = 0.5 * (d_lo + d_hi), False
-        value = d0 + round((value - d0) / cell) * cell
-        value = max(value, d_lo + cell)
+                value, is_below, bisect = 0.5 * (d_lo + d_hi), False, True
+        # in whole cells from d0 (the bracket's ends are grid points after the first probe): a
+        # bisection takes the lower middle cell, an estimate its nearest cell (ties up)
+        i_lo = math.floor((d_lo - d0) / cell + 0.5)
+        if bisect:
+            i = (i_lo + math.floor((d_hi - d0) / cell + 0.5)) // 2
+        else:
+            i = math.floor((value - d0) / cell + 0.5 + 1e-6)
+        i = max(i, i_lo + 1)
         if d_hi is not None:
-            value = min(value, d_hi - cell)
-            if value <= d_lo:  # the bracket is one grid cell wide in delta: it cannot shrink further
+            i = min(i, math.floor((d_hi - d0) / cell + 0.5) - 1)
+            if i <= i_lo:  # the bracket is one grid cell wide in delta: it cannot shrink further
                 break
+        value = d0 + i * cell
         extra = (below, min((value - d_lo) / (d_lo - along_d(below)), 2.0)) if below is not None else None
         gross, res = probe(value, lo_res, extra)
         n_ref += 1
