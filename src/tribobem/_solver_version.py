@@ -40,8 +40,9 @@ History
     read at the bracket's state with stick, moves by up to 2 % on coarse grids (the design
     example), beyond the solver tolerance.
 4
-    Tangential force ramps in total slip: the onset is bracketed with displacement-controlled
-    probes (``tangential_ramp(onset_by="displacement")``) instead of force-controlled ones.  The
+    Tangential force ramps in total slip on grids of >= 512^2 nodes: the onset is bracketed
+    with displacement-controlled probes (``tangential_ramp(onset_by="auto")``) instead of
+    force-controlled ones (smaller grids keep the force search and their results).  The
     onset moves within its 1e-3 mu F0+ bracket (the brackets overlap), and the pre-sliding
     displacement, read at the bracket's lower end, moves with that end: 0.1-0.6 % on the
     whole-burl ramp at 512^2-2048^2.
