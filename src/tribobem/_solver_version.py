@@ -44,7 +44,7 @@ History
     with displacement-controlled probes (``tangential_ramp(onset_by="auto")``) instead of
     force-controlled ones (smaller grids keep the force search and their results).  The
     onset moves within its 1e-3 mu F0+ bracket (the brackets overlap), and the pre-sliding
-    displacement, read at the bracket's lower end, moves with that end: 0.1-0.6 % on the
+    displacement, read at the bracket's lower end, moves with that end: 0.2-0.6 % on the
     whole-burl ramp at 512^2-2048^2.
 """
 
