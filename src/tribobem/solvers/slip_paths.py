@@ -6,8 +6,9 @@
   then bracketed between the last step with stick and the first without, to ``refine_tol`` x
   mu F0+ (not the first listed step whose stick area is zero): an extrapolation of the
   friction still unused in the stick zone (:func:`unused_friction`) to zero, with a bisection
-  safeguard, probing displacement-controlled states (:func:`_locate_onset_displacement`, the
-  default for a force ramp in total slip) or force-controlled ones (:func:`_locate_onset`).
+  safeguard, probing displacement-controlled states (:func:`_locate_onset_displacement`, for a
+  force ramp in total slip on grids from ``DISPLACEMENT_ONSET_NODES`` on) or force-controlled
+  ones (:func:`_locate_onset`).
 * :func:`normal_path`: a normal-load path with friction and the incremental slip criterion
   (Paper E Eq. 5): the relative displacement of each step is the reference of the next, so
   the history of the tangential state is carried (Spence's self-similar stick zone under
@@ -434,8 +435,8 @@ def _locate_onset_displacement(probe, lo_res, before, q_hi, refine_tol, mu, max_
     the slope of Q(delta)) above the estimate after a state with stick, below it after one
     without (0.35: a pair around a good estimate closes the bracket at ~0.7 of the width, clear
     of the stopping threshold); a bisection in delta when the estimate leaves the bracket,
-    misleads, or the last three probes did not halve it.  Before any probe without stick the upper end is the force
-    ramp's first value without stick (``q_hi``).
+    misleads, or the last three probes did not halve it.  Before any probe without stick the
+    upper end is the force ramp's first value without stick (``q_hi``).
 
     Parameters
     ----------
