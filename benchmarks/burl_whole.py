@@ -112,11 +112,12 @@ def child_normal(n: int, coarse, compare: bool, trace: bool) -> dict:
     return out
 
 
-def child_ramp(n: int, method: str, onset_by: str = "displacement") -> dict:
+def child_ramp(n: int, method: str, onset_by: str = "auto") -> dict:
     from tribobem.scenario import run_scenario
 
-    if onset_by != "displacement":
-        # the A/B switch: the onset probes force-controlled (before) instead of displacement-controlled
+    if onset_by != "auto":
+        # the A/B switch: the onset probes in force (before) or in displacement control, whatever
+        # the grid (auto: displacement from slip_paths.DISPLACEMENT_ONSET_NODES on)
         import functools
 
         from tribobem.runs import partial_slip
@@ -153,8 +154,8 @@ def main(argv=None) -> int:
     ap.add_argument("--tracemalloc", action="store_true")
     ap.add_argument("--ramp", action="store_true", help="the partial-slip ramp at 2048^2 (or --n)")
     ap.add_argument("--method", default="auto", help="[solver] method of the ramp (auto, normcg, polonsky_keer)")
-    ap.add_argument("--onset-by", default="displacement", choices=["displacement", "force"],
-                    help="ramp: control of the onset probes")
+    ap.add_argument("--onset-by", default="auto", choices=["auto", "displacement", "force"],
+                    help="ramp: control of the onset probes (tangential_ramp's onset_by)")
     ap.add_argument("--threads", type=int, default=None)
     ap.add_argument("--json", default=None)
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)

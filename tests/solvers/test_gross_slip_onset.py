@@ -154,7 +154,7 @@ def _synthetic_displacement(d_star, p, Q_star=0.985, slope_above=0.02):
 
     def Q(d):
         if d < d_star:
-            return Q_star * (1.0 - (1.0 - d / d_star) ** 1.5) / 1.0
+            return Q_star * (1.0 - (1.0 - d / d_star) ** 1.5)
         return Q_star + slope_above * (d - d_star)
 
     def state(d):
@@ -247,4 +247,3 @@ def test_force_at_mu_fn_without_adhesion_is_gross_slip_before_any_solve(paper_d_
             solve_coupled(op, gap, friction_coefficient=MU_D, normal_force=F0, tangential_force=f, initial=z)
         assert err.value.max_force == pytest.approx(MU_D * F0, rel=1e-12)
     assert calls == []  # known without a solve: the contact carries exactly F_N
-

@@ -212,8 +212,8 @@ def tangential_ramp(
     mu = friction_coefficient
     ramp = SlipRamp(steps=[], values=[], control=control, direction=e)
 
-    def solve(value, prev, reference, extrapolate=None):
-        load = {"tangential_force": tuple(value * e)} if control == "force" else {"tangential_displacement": tuple(value * e)}
+    def solve(value, prev, reference, extrapolate=None, how=control):
+        load = {"tangential_force": tuple(value * e)} if how == "force" else {"tangential_displacement": tuple(value * e)}
         return solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
                              interaction=interaction, reference=reference, initial=prev, extrapolate=extrapolate,
                              **load, **solver_kw)
@@ -265,13 +265,15 @@ def tangential_ramp(
             hi = failed_value
             base = lo_res if slip == "total" else lo_prev
 
-            def probe(value, start, extra=None):
+            def probe(value, start, extra=None, how=control):
                 # warm start: the nearest state with stick below the probe (the bracket's lower
                 # end), extrapolated from the one before it; the reference of an incremental
-                # step stays the ramp's
+                # step stays the ramp's.  how = "displacement": a displacement-controlled state,
+                # the same equilibria as the force ramp's (total slip), well posed when only a
+                # few nodes stick
                 try:
                     res = solve(value, start, ref_of(base) if slip == "incremental" else None,
-                                extra if EXTRAPOLATE else None)
+                                extra if EXTRAPOLATE else None, how)
                 except GrossSlipError:
                     return True, None
                 return bool(res.tangential.gross_slip), res
@@ -286,20 +288,9 @@ def tangential_ramp(
                                and _along(lo_res, e, "force") > 0
                                and _along(lo_res, e, "displacement") > _along(origin, e, "displacement"))
             if by_displacement:
-                def probe_d(value, start, extra=None):
-                    # a displacement-controlled state: the same equilibria as the force ramp's
-                    # (total slip), well posed when only a few nodes stick
-                    try:
-                        res = solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
-                                            interaction=interaction, initial=start,
-                                            extrapolate=extra if EXTRAPOLATE else None,
-                                            tangential_displacement=tuple(value * e), **solver_kw)
-                    except GrossSlipError:
-                        return True, None
-                    return bool(res.tangential.gross_slip), res
-
                 lo, hi, lo_res, n_ref = _locate_onset_displacement(
-                    probe_d, lo_res, lo_prev if prev_value is not None else None, hi, refine_tol, mu, max_refine,
+                    lambda value, start, extra=None: probe(value, start, extra, "displacement"), lo_res,
+                    lo_prev if prev_value is not None else None, hi, refine_tol, mu, max_refine,
                     lambda r: _along(r, e, "displacement"), lambda r: _along(r, e, "force"),
                     _along(origin, e, "displacement"))
             else:
