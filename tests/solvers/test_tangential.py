@@ -635,3 +635,16 @@ def test_predictor_step_matches_the_plain_loop_and_a_tight_reference(paper_d, mo
         assert np.array_equal(a.tangential.stick, c.tangential.stick)
         assert np.isfinite(a.tangential.relative_displacement).all()  # the final pass builds the fields
     assert sum(r.coupling_iterations for r in pred) <= sum(r.coupling_iterations for r in plain)
+
+
+def test_a_pass_without_pressure_change_measures_no_contraction():
+    """A pass at round-off (no pressure change) gives no contraction factor, and a factor of 0
+    is no hint: taken on to the next step it stopped that step after two passes whatever their
+    change (a plain loop at coupling_tol 1e-12 stopped at a change of 5.6e-3)."""
+    from tribobem.solvers.coupling import _contraction, _remaining
+
+    assert _contraction([1e-3, 5e-5], None, 0) == pytest.approx(0.05)
+    assert _contraction([1e-3, 0.0], None, 0) is None
+    assert _contraction([0.0, 5.6e-3], 0.0, 1) is None
+    assert _contraction([0.0, 5.6e-3], 0.05, 1) == pytest.approx(0.1)
+    assert _remaining(5.6e-3, 0.1) > 1e-12

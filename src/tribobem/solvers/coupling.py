@@ -69,11 +69,14 @@ def _contraction(history, hint: float | None = None, first: int = 1) -> float | 
     number of leading changes that are not fixed-point differences (1: the first pass measured
     against the last step; 0: against the predictor's pressure, itself a fixed-point iterate)."""
     if len(history) < first + 2:
-        if len(history) == first + 1 and hint is not None:
+        if len(history) == first + 1 and hint is not None and hint > 0:
             return 2.0 * hint if 2.0 * hint < 0.5 else None
         return None
     a, b = history[-2], history[-1]
-    if not (math.isfinite(a) and math.isfinite(b)) or a <= 0:
+    # A pass with no pressure change at all (the loop at round-off) measures no contraction: a
+    # rho of 0 taken on to the next step as its hint stopped that step after two passes
+    # whatever their change.
+    if not (math.isfinite(a) and math.isfinite(b)) or a <= 0 or b <= 0:
         return None
     rho = b / a
     return rho if rho < 0.5 else None
