@@ -32,6 +32,16 @@ Differences from the printed algorithm (documented in the README):
   (Polonsky-Keer restart only on overlap), after a force rescale, and when it is not a
   descent direction: warm starts then need fewer iterations than cold starts, and adhesive
   solves need fewer, at a small cost on non-adhesive rough contacts;
+* once the contact set and the outside stresses have not changed for ``PRECONDITION_AFTER``
+  iterations, the CG is preconditioned with the half-space's stiffness |q| on the contact's
+  box (``_stiffness_box``; a few FFTs of the box per iteration): the settled phase, where the
+  plain iteration spends most of its iterations (87 % of them on the adhesive loop of
+  benchmarks/adhesive_loop.py), converges several times faster, and every change of the sets
+  is still made by the plain steps, which decide on which of the equilibria of an adhesive
+  problem the solve ends.  A change of the sets returns to the plain steps.  Preconditioning
+  from the first settled iteration put a few edge nodes of warm-started Maugis-Dugdale steps
+  on another equilibrium; from the second it reached the plain iteration's in every case
+  measured (tests/solvers/test_normal_preconditioned.py);
 * smooth outside laws (an interaction with ``outside_branch``, see interactions.base, e.g.
   the capillary law with its van der Waals 1/g^3 terms): their stresses change at every
   iteration, which restarted the CG at every iteration.  A change that keeps every node on
@@ -55,6 +65,8 @@ from __future__ import annotations
 import math
 import time
 
+import numpy as np
+
 from ..elasticity.columns import KernelColumns, convolve, convolve_buffers
 from ..elasticity.operators import ConvolutionOperator
 from ..errors import InputError
@@ -68,6 +80,10 @@ from .normal_problem import normal_problem, normal_result
 #: K in real space rather than recomputed with a convolution (see _CGState).
 _SPARSE_MAX_NODES = 10
 
+#: Precondition the CG once the contact set and the outside stresses have not changed for this
+#: many iterations (None: never).  See ``_CGState._precondition``.
+PRECONDITION_AFTER = 2
+
 
 def _self_compliance(op: ConvolutionOperator) -> float:
     """Displacement (m/Pa) of a cell under its own unit pressure (diagonal of K)."""
@@ -79,6 +95,40 @@ def _self_compliance(op: ConvolutionOperator) -> float:
         cache = float(op.backend.to_numpy(op.apply(e))[0, 0])
         op.__dict__["_self_compliance"] = cache
     return cache
+
+
+def _stiffness_box(op: ConvolutionOperator, idx):
+    """The preconditioner of the CG's settled phase on the contact nodes ``idx`` (flat).
+
+    M = |q|, the half-space's stiffness 1/K(q) = E* |q| / 2 up to the constant, which a
+    preconditioner does not need (so one M serves every material pair), applied on the
+    contact's bounding box taken periodic (two cells larger, to a fast FFT length): FFTs of the
+    box instead of the padded grid (at 256^2 free boundary: about 160^2 against 512^2).  A box
+    1.25x or 2x larger per axis, with less wrap-around, gave the same iteration counts on the
+    adhesive loop of benchmarks/adhesive_loop.py.
+    On a periodic grid an axis that the contact spans for more than half is taken whole, where
+    the periodic M is exact.  Returns ((rows, columns) of the nodes in the box, the box's FFT
+    shape, the rfft2 spectrum of M on it).
+    """
+    import scipy.fft
+
+    g = op.grid
+    ny = op.grid.shape[1]
+    i, j = idx // ny, idx % ny
+
+    def axis(c, n):
+        lo, m = int(c.min()), int(c.max()) - int(c.min()) + 1
+        if g.periodic and 2 * m > n:
+            return 0, n
+        return lo, scipy.fft.next_fast_len(m + 2, real=True)
+
+    (i0, n1), (j0, n2) = axis(i, g.nx), axis(j, ny)
+    qx = 2.0 * math.pi * np.fft.fftfreq(n1, d=g.lx / g.nx)
+    qy = 2.0 * math.pi * np.fft.rfftfreq(n2, d=g.ly / g.ny)
+    q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
+    # the mean: the longest wavelength's stiffness (the force-balanced CG never uses it)
+    q[0, 0] = min(float(qx[1]) if n1 > 1 else math.inf, float(qy[1]) if n2 > 1 else math.inf)
+    return (i - i0, j - j0), (n1, n2), op.backend.asarray(q)
 
 
 def solve_normal(
@@ -96,6 +146,7 @@ def solve_normal(
     refresh: int = 50,
     stall: int = 2000,
     method: str = "polonsky_keer",
+    precondition: bool = True,
 ) -> NormalResult:
     """Solve a normal contact problem, with or without adhesion.
 
@@ -144,6 +195,12 @@ def solve_normal(
         fewer iterations, whose count does not grow with the grid, and identical contact
         nodes on non-adhesive problems; with Dugdale adhesion it may stop at another, equally
         valid equilibrium of the non-convex problem (benchmarks/normal_iterations.py).
+    precondition : bool
+        Polonsky-Keer only: once the contact set and the outside stresses have stopped changing
+        (``PRECONDITION_AFTER`` iterations without a change), precondition the CG with the
+        half-space's stiffness on the contact's box (default).  The steps that change the sets
+        are Polonsky-Keer's own, so it reaches the same equilibrium in fewer iterations.  False:
+        the plain Polonsky-Keer iteration (for comparison).
 
     Returns
     -------
@@ -170,7 +227,8 @@ def solve_normal(
     op = operator.normal
     h, inter, floor, force_control, target, shift, p, contact = normal_problem(
         op, gap, force, approach, interaction, tol, max_iterations, initial_pressure, initial_contact)
-    state = _CGState(op, inter, floor, h, shift, p, contact, force_control, target, refresh)
+    state = _CGState(op, inter, floor, h, shift, p, contact, force_control, target, refresh,
+                     PRECONDITION_AFTER if precondition else None)
     del p, contact  # the state owns the pressure and a copy of the mask
     outcome = run_iterations(state, tol=tol, max_iterations=max_iterations, stall=stall)
     p, contact = state.full_pressure(), state.cmask
@@ -202,7 +260,8 @@ class _CGState(IterativeSolver):
     and before convergence is declared is kept.
     """
 
-    def __init__(self, op, inter, floor, h, shift, p, contact, force_control, target, refresh):
+    def __init__(self, op, inter, floor, h, shift, p, contact, force_control, target, refresh,
+                 precondition_after=None):
         xp = op.xp
         self.op, self.xp, self.inter, self.floor = op, xp, inter, floor
         self.h = h.ravel()
@@ -252,10 +311,32 @@ class _CGState(IterativeSolver):
         # Counters (benchmarks): convolutions for K t, exact K p, W; sparse updates and their columns.
         self.n_kt = self.n_exact = self.n_w = self.n_sparse = self.n_columns = 0
         self.started_exact = False
+        # Iterations since the last status change, whether the last direction was
+        # preconditioned, and the preconditioner's box (per contact set).
+        self.stable = 0
+        self.precondition_after = precondition_after
+        self.pre_active = False
+        self.pre_box = None
+        self.n_pre = 0
 
     def stats(self) -> dict:
         return {"kt": self.n_kt, "exact": self.n_exact, "w": self.n_w, "sparse_updates": self.n_sparse,
-                "sparse_columns": self.n_columns}
+                "sparse_columns": self.n_columns, "preconditioned": self.n_pre}
+
+    def _precondition(self, g_c):
+        """z = P_C M P_C g_c on the contact's box (:func:`_stiffness_box`), mean-free under force
+        control (the step then keeps the force)."""
+        if self.pre_box is None or self.pre_box[0] is not self.idx:
+            self.pre_box = (self.idx, *_stiffness_box(self.op, self.idx))
+        _, (bi, bj), N, q = self.pre_box
+        be = self.op.backend
+        w = self.xp.zeros(N)
+        w[bi, bj] = g_c
+        z = be.irfft2(be.rfft2(w) * q, s=N)[bi, bj]
+        self.n_pre += 1
+        if self.force_control:
+            z -= z.mean()
+        return z
 
     # -- the steps run by iteration.run_iterations
     def start(self):
@@ -330,13 +411,20 @@ class _CGState(IterativeSolver):
         else:
             g_c = self.u[idx] + (self.h[idx] - self.shift)
 
-        # Step 3: conjugate direction.
-        G = dot(g_c, g_c)
-        t_c = g_c + (G / self.G_old) * self.t_c if (self.conjugate and self.G_old > 0) else g_c
-        if t_c is not g_c and dot(g_c, t_c) <= 0.0:
-            t_c = g_c  # not a descent direction: restart from steepest descent
+        # Step 3: conjugate direction; preconditioned once the sets have settled.
+        G2 = dot(g_c, g_c)
+        after = self.precondition_after
+        use_pre = after is not None and self.stable >= after and n_c > 1
+        conj = self.conjugate and use_pre == self.pre_active
+        self.pre_active = use_pre
+        z_c = self._precondition(g_c) if use_pre else g_c
+        G = dot(g_c, z_c) if use_pre else G2
+        t_c = z_c + (G / self.G_old) * self.t_c if (conj and self.G_old > 0) else z_c
+        if t_c is not z_c and dot(g_c, t_c) <= 0.0:
+            t_c = z_c  # not a descent direction: restart from (preconditioned) steepest descent
         self.G_old = G
-        self.gap_residual = math.sqrt(G / n_c) / self.h_scale if n_c else 0.0
+        self.gap_residual = math.sqrt(G2 / n_c) / self.h_scale if n_c else 0.0
+        G = G2
 
         # Step 4: step length from r = K t (mean-free on the contact under force control).
         r = None
@@ -481,6 +569,7 @@ class _CGState(IterativeSolver):
             t_c = g[idx]
             self.W = None
             self.conjugate = False  # the problem changed: restart from steepest descent
+        self.stable = 0 if changed else self.stable + 1
         self.t_c = t_c
 
         # Step 6: force balance by scaling p - floor on the contact nodes.
