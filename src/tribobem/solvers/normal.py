@@ -34,7 +34,8 @@ Differences from the printed algorithm (documented in the README):
   solves need fewer, at a small cost on non-adhesive rough contacts;
 * once the contact set and the outside stresses have not changed for ``PRECONDITION_AFTER``
   iterations, the CG is preconditioned with the half-space's stiffness |q| on the contact's
-  box (``_stiffness_box``; a few FFTs of the box per iteration): the settled phase, where the
+  box (``_stiffness_box``; a few FFTs of the box per iteration, used where they cost at most
+  half the operator's transform: always on the free boundary): the settled phase, where the
   plain iteration spends most of its iterations (87 % of them on the adhesive loop of
   benchmarks/adhesive_loop.py), converges several times faster, and every change of the sets
   is still made by the plain steps, which decide on which of the equilibria of an adhesive
@@ -83,6 +84,9 @@ _SPARSE_MAX_NODES = 10
 #: Precondition the CG once the contact set and the outside stresses have not changed for this
 #: many iterations (None: never).  See ``_CGState._precondition``.
 PRECONDITION_AFTER = 2
+#: ... and only where the preconditioner's box transform is at most this fraction of the
+#: operator's transform (see ``_stiffness_box``).
+BOX_FRACTION = 0.5
 
 
 def _self_compliance(op: ConvolutionOperator) -> float:
@@ -108,7 +112,11 @@ def _stiffness_box(op: ConvolutionOperator, idx):
     adhesive loop of benchmarks/adhesive_loop.py.
     On a periodic grid an axis that the contact spans for more than half is taken whole, where
     the periodic M is exact.  Returns ((rows, columns) of the nodes in the box, the box's FFT
-    shape, the rfft2 spectrum of M on it).
+    shape, the rfft2 spectrum of M on it); None when the box's transform exceeds
+    ``BOX_FRACTION`` of the operator's (e.g. the islands of a rough periodic contact spread over
+    the cell: there the preconditioner cost as much as the operator, and the iterations it saved
+    did not pay for it: 0.99-1.29x the plain iteration's CPU on the adhesive rough contact of
+    benchmarks/adhesion_vs_tamaas.py, 256^2-1024^2).
     """
     import scipy.fft
 
@@ -123,6 +131,8 @@ def _stiffness_box(op: ConvolutionOperator, idx):
         return lo, scipy.fft.next_fast_len(m + 2, real=True)
 
     (i0, n1), (j0, n2) = axis(i, g.nx), axis(j, ny)
+    if n1 * n2 > BOX_FRACTION * op.fft_shape[0] * op.fft_shape[1]:
+        return None
     qx = 2.0 * math.pi * np.fft.fftfreq(n1, d=g.lx / g.nx)
     qy = 2.0 * math.pi * np.fft.rfftfreq(n2, d=g.ly / g.ny)
     q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
@@ -323,12 +333,17 @@ class _CGState(IterativeSolver):
         return {"kt": self.n_kt, "exact": self.n_exact, "w": self.n_w, "sparse_updates": self.n_sparse,
                 "sparse_columns": self.n_columns, "preconditioned": self.n_pre}
 
+    def _box(self):
+        """The preconditioner's box for the current contact set (cached), or None where it
+        would not be cheaper than the operator (:func:`_stiffness_box`)."""
+        if self.pre_box is None or self.pre_box[0] is not self.idx:
+            self.pre_box = (self.idx, _stiffness_box(self.op, self.idx))
+        return self.pre_box[1]
+
     def _precondition(self, g_c):
         """z = P_C M P_C g_c on the contact's box (:func:`_stiffness_box`), mean-free under force
         control (the step then keeps the force)."""
-        if self.pre_box is None or self.pre_box[0] is not self.idx:
-            self.pre_box = (self.idx, *_stiffness_box(self.op, self.idx))
-        _, (bi, bj), N, q = self.pre_box
+        (bi, bj), N, q = self._box()
         be = self.op.backend
         w = self.xp.zeros(N)
         w[bi, bj] = g_c
@@ -414,7 +429,7 @@ class _CGState(IterativeSolver):
         # Step 3: conjugate direction; preconditioned once the sets have settled.
         G2 = dot(g_c, g_c)
         after = self.precondition_after
-        use_pre = after is not None and self.stable >= after and n_c > 1
+        use_pre = after is not None and self.stable >= after and n_c > 1 and self._box() is not None
         conj = self.conjugate and use_pre == self.pre_active
         self.pre_active = use_pre
         z_c = self._precondition(g_c) if use_pre else g_c
