@@ -107,7 +107,8 @@ def _stiffness_box(op: ConvolutionOperator, idx):
     M = |q|, the half-space's stiffness 1/K(q) = E* |q| / 2 up to the constant, which a
     preconditioner does not need (so one M serves every material pair), applied on the
     contact's bounding box taken periodic (two cells larger, to a fast FFT length): FFTs of the
-    box instead of the padded grid (at 256^2 free boundary: about 160^2 against 512^2).  A box
+    box instead of the padded grid (a ball contact across 181 of 256 free-boundary cells: 192^2
+    against 512^2).  A box
     1.25x or 2x larger per axis, with less wrap-around, gave the same iteration counts on the
     adhesive loop of benchmarks/adhesive_loop.py.
     On a periodic grid an axis that the contact spans for more than half is taken whole, where
