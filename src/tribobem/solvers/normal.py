@@ -108,11 +108,10 @@ def _stiffness_box(op: ConvolutionOperator, idx):
     preconditioner does not need (so one M serves every material pair), applied on the
     contact's bounding box taken periodic (two cells larger, to a fast FFT length): FFTs of the
     box instead of the padded grid (a ball contact across 181 of 256 free-boundary cells: 192^2
-    against 512^2).  A box
-    1.25x or 2x larger per axis, with less wrap-around, gave the same iteration counts on the
-    adhesive loop of benchmarks/adhesive_loop.py.
-    On a periodic grid an axis that the contact spans for more than half is taken whole, where
-    the periodic M is exact.  Returns ((rows, columns) of the nodes in the box, the box's FFT
+    against 512^2).  A box 1.25x or 2x larger per axis, with less wrap-around, gave the same
+    iteration counts on the adhesive loop of benchmarks/adhesive_loop.py.  On a periodic grid an
+    axis that the contact spans for more than half is taken whole, where the periodic M is
+    exact.  Returns ((rows, columns) of the nodes in the box, the box's FFT
     shape, the rfft2 spectrum of M on it); None when the box's transform exceeds
     ``BOX_FRACTION`` of the operator's (e.g. the islands of a rough periodic contact spread over
     the cell: there the preconditioner cost as much as the operator, and the iterations it saved
@@ -440,7 +439,7 @@ class _CGState(IterativeSolver):
             t_c = z_c  # not a descent direction: restart from (preconditioned) steepest descent
         self.G_old = G
         self.gap_residual = math.sqrt(G2 / n_c) / self.h_scale if n_c else 0.0
-        G = G2
+        G = G2  # the step-length guard below compares the plain squared gap with round-off
 
         # Step 4: step length from r = K t (mean-free on the contact under force control).
         r = None
