@@ -111,18 +111,17 @@ def _stiffness_box(op: ConvolutionOperator, idx):
     against 512^2).  A box 1.25x or 2x larger per axis, with less wrap-around, gave the same
     iteration counts on the adhesive loop of benchmarks/adhesive_loop.py.  On a periodic grid an
     axis that the contact spans for more than half is taken whole, where the periodic M is
-    exact.  Returns ((rows, columns) of the nodes in the box, the box's FFT
-    shape, the rfft2 spectrum of M on it); None when the box's transform exceeds
-    ``BOX_FRACTION`` of the operator's (e.g. the islands of a rough periodic contact spread over
-    the cell: there the preconditioner cost as much as the operator, and the iterations it saved
-    did not pay for it: 0.99-1.29x the plain iteration's CPU on the adhesive rough contact of
-    benchmarks/adhesion_vs_tamaas.py, 256^2-1024^2).
+    exact.  Returns ((rows, columns) of the nodes in the box, the box's FFT shape, the rfft2
+    spectrum of M on it, a zeroed work array of the box's shape); None when the box's transform
+    exceeds ``BOX_FRACTION`` of the operator's (e.g. the islands of a rough periodic contact
+    spread over the cell: there the preconditioner cost as much as the operator, and the
+    iterations it saved did not pay for it: 0.99-1.29x the plain iteration's CPU on the adhesive
+    rough contact of benchmarks/adhesion_vs_tamaas.py, 256^2-1024^2).
     """
     import scipy.fft
 
     g = op.grid
-    ny = op.grid.shape[1]
-    i, j = idx // ny, idx % ny
+    i, j = idx // g.ny, idx % g.ny
 
     def axis(c, n):
         lo, m = int(c.min()), int(c.max()) - int(c.min()) + 1
@@ -130,15 +129,20 @@ def _stiffness_box(op: ConvolutionOperator, idx):
             return 0, n
         return lo, scipy.fft.next_fast_len(m + 2, real=True)
 
-    (i0, n1), (j0, n2) = axis(i, g.nx), axis(j, ny)
+    (i0, n1), (j0, n2) = axis(i, g.nx), axis(j, g.ny)
     if n1 * n2 > BOX_FRACTION * op.fft_shape[0] * op.fft_shape[1]:
         return None
-    qx = 2.0 * math.pi * np.fft.fftfreq(n1, d=g.lx / g.nx)
-    qy = 2.0 * math.pi * np.fft.rfftfreq(n2, d=g.ly / g.ny)
-    q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
-    # the mean: the longest wavelength's stiffness (the force-balanced CG never uses it)
-    q[0, 0] = min(float(qx[1]) if n1 > 1 else math.inf, float(qy[1]) if n2 > 1 else math.inf)
-    return (i - i0, j - j0), (n1, n2), op.backend.asarray(q)
+    # |q| per box shape, cached on the operator (the box of a load path changes shape rarely)
+    cache = op.__dict__.setdefault("_stiffness_box_spectra", {})
+    q = cache.get((n1, n2))
+    if q is None:
+        qx = 2.0 * math.pi * np.fft.fftfreq(n1, d=g.lx / g.nx)
+        qy = 2.0 * math.pi * np.fft.rfftfreq(n2, d=g.ly / g.ny)
+        q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
+        # the mean: the longest wavelength's stiffness (the force-balanced CG never uses it)
+        q[0, 0] = min(float(qx[1]) if n1 > 1 else math.inf, float(qy[1]) if n2 > 1 else math.inf)
+        q = cache[(n1, n2)] = op.backend.asarray(q)
+    return (i - i0, j - j0), (n1, n2), q, op.xp.zeros((n1, n2))
 
 
 def solve_normal(
@@ -343,11 +347,11 @@ class _CGState(IterativeSolver):
     def _precondition(self, g_c):
         """z = P_C M P_C g_c on the contact's box (:func:`_stiffness_box`), mean-free under force
         control (the step then keeps the force)."""
-        (bi, bj), N, q = self._box()
+        (bi, bj), N, q, w = self._box()
         be = self.op.backend
-        w = self.xp.zeros(N)
         w[bi, bj] = g_c
         z = be.irfft2(be.rfft2(w) * q, s=N)[bi, bj]
+        w[bi, bj] = 0.0  # the box buffer stays zero off the contact for the next call
         self.n_pre += 1
         if self.force_control:
             z -= z.mean()
@@ -427,19 +431,18 @@ class _CGState(IterativeSolver):
             g_c = self.u[idx] + (self.h[idx] - self.shift)
 
         # Step 3: conjugate direction; preconditioned once the sets have settled.
-        G2 = dot(g_c, g_c)
+        G = dot(g_c, g_c)
         after = self.precondition_after
         use_pre = after is not None and self.stable >= after and n_c > 1 and self._box() is not None
         conj = self.conjugate and use_pre == self.pre_active
         self.pre_active = use_pre
         z_c = self._precondition(g_c) if use_pre else g_c
-        G = dot(g_c, z_c) if use_pre else G2
-        t_c = z_c + (G / self.G_old) * self.t_c if (conj and self.G_old > 0) else z_c
+        rz = dot(g_c, z_c) if use_pre else G  # the CG's scalar (g . M g; g . g unpreconditioned)
+        t_c = z_c + (rz / self.G_old) * self.t_c if (conj and self.G_old > 0) else z_c
         if t_c is not z_c and dot(g_c, t_c) <= 0.0:
             t_c = z_c  # not a descent direction: restart from (preconditioned) steepest descent
-        self.G_old = G
-        self.gap_residual = math.sqrt(G2 / n_c) / self.h_scale if n_c else 0.0
-        G = G2  # the step-length guard below compares the plain squared gap with round-off
+        self.G_old = rz
+        self.gap_residual = math.sqrt(G / n_c) / self.h_scale if n_c else 0.0
 
         # Step 4: step length from r = K t (mean-free on the contact under force control).
         r = None
