@@ -34,6 +34,8 @@ import scipy.fft
 from ..errors import InputError
 
 _ENGINES = ("pyfftw", "mkl_fft", "scipy")
+#: The complex type of the real FFT of each real type.
+_COMPLEX = {np.float32: np.complex64, np.float64: np.complex128}
 
 
 
@@ -299,7 +301,7 @@ class Backend:
 
     # -- zero-padded transforms (free boundary) ---------------------------------------
 
-    def rfft2_padded(self, a, s, out=None):
+    def rfft2_padded(self, a, s, out=None, single: bool | None = None):
         """:meth:`rfft2` of ``a`` (m1 x m2) zero-padded to ``s`` (N1 x N2, N >= m).
 
         With scipy.fft: the real FFT along y of the m1 rows only (the N1 - m1 padding rows
@@ -315,7 +317,11 @@ class Backend:
         s : tuple of int
             Padded transform grid (N1, N2), N1 >= m1, N2 >= m2.
         out : ndarray, optional
-            Complex work array of shape (N1, N2 // 2 + 1) to write into (scipy.fft path only).
+            Complex work array of shape (N1, N2 // 2 + 1) to write into (scipy.fft path only;
+            complex64 in single precision).
+        single : bool, optional
+            Transform in single precision (complex64; :attr:`single_precision` backends only,
+            ignored by the others).  None: when ``a`` is float32.
 
         Returns
         -------
@@ -328,16 +334,17 @@ class Backend:
         m1, m2 = a.shape
         N1, N2 = int(s[0]), int(s[1])
         w = self.threads(s)
-        T = out if out is not None else np.empty((N1, N2 // 2 + 1), dtype=complex)
+        real = np.float32 if (a.dtype == np.float32 if single is None else single) else np.float64
+        T = out if out is not None else np.empty((N1, N2 // 2 + 1), dtype=_COMPLEX[real])
         if m2 != N2:
-            row = self._real_rows(m1, m2, N2)
-            dirty = work_buffers(self).pop(("rows dirty", m1, m2, N2), False)
+            row = self._real_rows(m1, m2, N2, real)
+            dirty = work_buffers(self).pop(("rows dirty", m1, m2, N2, real), False)
             if dirty:  # lent as the out of irfft2_rows: clear the padding again
                 row[:, m2:] = 0.0
             row[:, :m2] = a
             src = row
         else:
-            src = np.ascontiguousarray(a, dtype=float)
+            src = np.ascontiguousarray(a, dtype=real)
         _pocketfft.r2c(src, (1,), True, 0, T[:m1], w)
         T[m1:] = 0.0
         _pocketfft.c2c(T, (0,), True, 0, T, w)
@@ -372,7 +379,7 @@ class Backend:
         N2 = int(s[1])
         w = self.threads(s)
         _pocketfft.c2c(A, (0,), False, 2, A, w)
-        u = out if out is not None else np.empty((rows, N2))
+        u = out if out is not None else np.empty((rows, N2), dtype=np.float32 if A.dtype == np.complex64 else float)
         _pocketfft.c2r(A[:rows], (1,), N2, False, 2, u, w)
         return u
 
@@ -450,7 +457,7 @@ class Backend:
         ``BLOCKED_FFT_POINTS`` points (env ``TRIBOBEM_BLOCKED_FFT_POINTS``)."""
         return self._lean() and int(s[0]) * int(s[1]) >= blocked_fft_points()
 
-    def rows_buffer(self, m1: int, m2: int, N2: int):
+    def rows_buffer(self, m1: int, m2: int, N2: int, dtype=np.float64):
         """The (per-thread) m1 x N2 real work array of :meth:`rfft2_padded`, lent as the ``out`` of
         :meth:`irfft2_rows` (scipy.fft path): no fresh m1 x N2 array per inverse transform.  Its
         contents are valid until the next transform on this thread; the next forward transform
@@ -460,29 +467,46 @@ class Backend:
         ----------
         m1, m2, N2 : int
             Rows, unpadded and padded columns.
+        dtype : numpy dtype
+            float64, or float32 for a single-precision transform.
 
         Returns
         -------
         ndarray
             Real array of shape (m1, N2).
         """
-        row = self._real_rows(m1, m2, N2)
-        work_buffers(self)[("rows dirty", m1, m2, N2)] = True
+        real = np.float32 if np.dtype(dtype) == np.float32 else np.float64
+        row = self._real_rows(m1, m2, N2, real)
+        work_buffers(self)[("rows dirty", m1, m2, N2, real)] = True
         return row
 
     def _lean(self) -> bool:
         return self.name == "numpy" and self.fft == "scipy" and _pocketfft is not None
 
-    def _real_rows(self, m1: int, m2: int, N2: int):
+    @property
+    def single_precision(self) -> bool:
+        """Whether the padded transforms run in single precision for float32 input.
+
+        The scipy.fft engine of the NumPy backend (pocketfft) transforms float32 arrays in
+        single precision, about 3x faster than double on this machine's 384^2 transforms
+        (benchmarks/README.md, "Single-precision search directions").  The solvers use it only
+        where an error of ~1e-7 relative to the transformed field is harmless: the images of
+        their search directions (corrected by the exact double-precision displacement before
+        any convergence test) and their preconditioners.  Other engines and CuPy: False (the
+        solvers stay in double precision).
+        """
+        return self._lean()
+
+    def _real_rows(self, m1: int, m2: int, N2: int, real=np.float64):
         """A real work array of m1 x N2 whose columns m2.. are 0 (only [:, :m2] is ever
         written into it), per thread."""
         bufs = work_buffers(self)
-        key = ("rows", m1, m2, N2)
+        key = ("rows", m1, m2, N2, real)
         b = bufs.get(key)
         if b is None:
             if len(bufs) > 16:
                 bufs.clear()
-            b = bufs[key] = np.zeros((m1, N2))
+            b = bufs[key] = np.zeros((m1, N2), dtype=real)
         return b
 
     # -- FFTW -------------------------------------------------------------------------
@@ -566,6 +590,34 @@ class Backend:
         if self.name == "numpy" or isinstance(a, np.ndarray):
             return np.asarray(a)
         return a.get()
+
+
+def single_spectrum(owner, key, spec):
+    """The single-precision copy (complex64, or float32 for a real spectrum) of the kernel
+    spectrum ``spec``, cached on ``owner`` under ``key`` (made again when ``spec`` is another
+    array than the one cached).
+
+    Parameters
+    ----------
+    owner : object
+        The operator the spectrum belongs to (the copy is kept in its ``__dict__``).
+    key : hashable
+        Name of the spectrum (e.g. the block and the transform shape).
+    spec : ndarray
+        The double-precision spectrum.
+
+    Returns
+    -------
+    ndarray
+        Its single-precision copy.
+    """
+    cache = owner.__dict__.setdefault("_single_spectra", {})
+    got = cache.get(key)
+    if got is None or got[0] is not spec:
+        if len(cache) >= 32:
+            cache.clear()
+        got = cache[key] = (spec, spec.astype(np.complex64 if np.iscomplexobj(spec) else np.float32))
+    return got[1]
 
 
 def work_buffers(owner) -> dict:

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .backend import work_buffers
+from .backend import single_spectrum, work_buffers
 from .operators import ConvolutionOperator
 
 __all__ = ["TangentialOperator", "tangential_operator"]
@@ -70,13 +70,13 @@ class TangentialOperator:
     def _crop(self, u):
         return u if self.periodic else u[: self.shape[0], : self.shape[1]]
 
-    def _combine(self, outs: str, ins: str, fields, spectra=None, fft_shape=None) -> list:
+    def _combine(self, outs: str, ins: str, fields, spectra=None, fft_shape=None, single=False) -> list:
         be = self.be
         spectra = self.spec if spectra is None else spectra
         boxed = fft_shape is not None
         fft_shape = self.fft_shape if fft_shape is None else fft_shape
         if be._lean() and not self.periodic:
-            return self._combine_padded(outs, ins, fields, spectra, fft_shape)
+            return self._combine_padded(outs, ins, fields, spectra, fft_shape, single and be.single_precision)
         F = {c: be.rfft2(f, s=fft_shape) for c, f in zip(ins, fields) if f is not None}
         res = []
         for o in outs:
@@ -107,17 +107,21 @@ class TangentialOperator:
                 acc += tmp
         return acc
 
-    def _combine_padded(self, outs, ins, fields, spectra, fft_shape) -> list:
+    def _combine_padded(self, outs, ins, fields, spectra, fft_shape, single=False) -> list:
         """``_combine`` for zero-padded (free-boundary or box) transforms with scipy.fft: the
         transforms of :meth:`Backend.rfft2_padded` and :meth:`Backend.irfft2_rows` (the padding
-        rows skipped, no fresh spectra: every array reused), results m1 x m2 as the inputs."""
+        rows skipped, no fresh spectra: every array reused), results m1 x m2 as the inputs
+        (float32 with ``single``: single-precision transforms and spectra)."""
         be = self.be
         m1, m2 = next(f for f in fields if f is not None).shape
         shp = (fft_shape[0], fft_shape[1] // 2 + 1)
+        if single:
+            spectra = {k: single_spectrum(self, (tuple(fft_shape), k), v) for k, v in spectra.items()}
         F = {}
         for k, (c, f) in enumerate(zip(ins, fields)):
             if f is not None:
-                F[c] = be.rfft2_padded(f, fft_shape, out=self._work(10 + k, shp, complex))
+                F[c] = be.rfft2_padded(f, fft_shape, out=self._work(10 + k, shp, np.complex64 if single else complex),
+                                       single=single)
         res = []
         for o in outs:
             acc = self._product(o, F, spectra)
@@ -249,7 +253,8 @@ class TangentialOperator:
         Parameters
         ----------
         rx, ry : array
-            Residuals (m, slip) on a box of (m1, m2) cells, the box taken periodic.
+            Residuals (m, slip) on a box of (m1, m2) cells, the box taken periodic (float32:
+            applied in single precision where the backend supports it).
 
         Returns
         -------
@@ -260,6 +265,9 @@ class TangentialOperator:
         box = tuple(rx.shape)
         spec = self.preconditioner_spectra(box)
         be = self.be
+        if rx.dtype == np.float32 and be.single_precision:
+            # single-precision residuals: single-precision transforms and spectra
+            spec = {k: single_spectrum(self, ("preconditioner", box, k), v) for k, v in spec.items()}
         Rx, Ry = be.rfft2(rx, s=box), be.rfft2(ry, s=box)
         if "xy" in spec:
             Zx = Rx * spec["xx"] + Ry * spec["xy"]
@@ -323,13 +331,18 @@ class TangentialOperator:
         cache[N] = (N, spectra)
         return cache[N]
 
-    def box_shear_displacement(self, qx, qy):
+    def box_shear_displacement(self, qx, qy, single: bool = False):
         """K_tt q on a box of a free-boundary grid, for a shear that vanishes outside the box.
 
         Parameters
         ----------
         qx, qy : array
             Shear tractions (Pa) on a box of (m1, m2) cells.
+
+        single : bool
+            Single-precision transforms (float32 results, relative error ~1e-7; for the images
+            of TangCG's search directions) where the backend supports them
+            (``Backend.single_precision``).
 
         Returns
         -------
@@ -339,7 +352,7 @@ class TangentialOperator:
         """
         box = tuple(qx.shape)
         N, spec = self.box_spectra(box)
-        ux, uy = self._combine("xy", "xy", (qx, qy), spectra=spec, fft_shape=N)
+        ux, uy = self._combine("xy", "xy", (qx, qy), spectra=spec, fft_shape=N, single=single)
         z = self.xp.zeros(box)
         return (z if ux is None else ux[: box[0], : box[1]]), (z if uy is None else uy[: box[0], : box[1]])
 

@@ -101,6 +101,12 @@ __all__ = ["GrossSlipError", "solve_tangential"]
 DEFAULT_PRECONDITIONER = "fft"
 #: Free boundary: apply K_tt on the contact's bounding box (exact; see ``_Tangential._apply``).
 USE_BOX = True
+#: TangCG's images K v of its search directions and its FFT preconditioner in single precision
+#: where the backend supports it (``Backend.single_precision``: free boundary, scipy.fft).  Their
+#: error, ~1e-7 of the step, does not reach the solution or the convergence test: every check of
+#: the element division recomputes K q exactly in double precision and measures the residual
+#: from it (``_TangCG._exact``).
+SINGLE_DIRECTIONS = True
 
 
 class GrossSlipError(InputError):
@@ -528,23 +534,28 @@ class _Tangential:
         mag = xp.sqrt(self.q[0] ** 2 + self.q[1] ** 2)
         return mag < self.bound * self.RIM
 
-    def _apply(self, t):
+    def _apply(self, t, single: bool = False):
         """K_tt t on the contact nodes, for t (2, n) given on them (one tangential convolution).
 
         Free boundary: the convolution on the contact's bounding box only
         (:meth:`TangentialOperator.box_shear_displacement`, exact: the tractions vanish outside
         it and the slip is needed on the contact nodes only), when its transform is smaller than
         0.8 x the padded grid's; the contact of a ball over +-2a fills about half of each axis,
-        so the box transform is about a third of the padded one.  Else the padded operator."""
+        so the box transform is about a third of the padded one.  Else the padded operator.
+
+        ``single``: the box convolution in single precision where the backend supports it (the
+        images of TangCG's search directions, see :data:`SINGLE_DIRECTIONS`); the result is
+        float64 either way."""
         boxed = self._apply_box()
         if boxed is not None:
             box, local, bx, by = boxed
             bx[local] = t[0]
             by[local] = t[1]
-            ux, uy = self.top.box_shear_displacement(bx.reshape(box), by.reshape(box))
+            ux, uy = self.top.box_shear_displacement(bx.reshape(box), by.reshape(box), single=single)
             bx[local] = 0.0
             by[local] = 0.0
-            return self.xp.stack([ux.ravel()[local], uy.ravel()[local]])
+            u = self.xp.stack([ux.ravel()[local], uy.ravel()[local]])
+            return u if u.dtype == np.float64 else u.astype(np.float64)
         fx, fy = self.full
         fx[self.idx] = t[0]
         fy[self.idx] = t[1]
@@ -582,7 +593,11 @@ class _Tangential:
             i0, m1 = axis(ii, nx)
             j0, m2 = axis(jj, ny)
             local = ((ii - i0) % m1) * m2 + (jj - j0) % m2
-            self._box_data = ((m1, m2), self.xp.asarray(local), self.xp.zeros(m1 * m2), self.xp.zeros(m1 * m2))
+            # single-precision residuals where the backend transforms them so (a preconditioner
+            # needs no double precision; see SINGLE_DIRECTIONS)
+            real = np.float32 if SINGLE_DIRECTIONS and top.be.single_precision else np.float64
+            self._box_data = ((m1, m2), self.xp.asarray(local), self.xp.zeros(m1 * m2, dtype=real),
+                              self.xp.zeros(m1 * m2, dtype=real))
         return self._box_data
 
     def _rows_cols(self):
@@ -922,7 +937,7 @@ class _TangCG(IterativeSolver):
             v = v - stickf * (v.sum(axis=1) / n_st)[:, None]
         elif rim_only:
             v = self._rim_free(v, t)[0]
-        Kv = st._apply(v)
+        Kv = st._apply(v, single=SINGLE_DIRECTIONS)
         st.n_apply += 1
         if st.force_control and n_st:
             Kv = Kv - ((Kv * stickf).sum(axis=1) / n_st)[:, None]
