@@ -131,9 +131,27 @@ def test_sparse_dugdale_displacement_control(monkeypatch):
     _solve_both(monkeypatch, op, h, approach=float(np.mean(h)) - 0.015, interaction=inter, tol=1e-10)
 
 
+def test_sparse_dugdale_force_control(monkeypatch):
+    """Force control with an outside stress: the force balance rescales p - floor on the contact
+    only, so the displacement needs W = K(p_out + floor 1_C), which the sparse path carries from
+    the old sets by the changed nodes' columns (or convolves once).  The ball of
+    benchmarks/adhesive_loop.py (R = 40 um, 100 GPa / 0.25 on a rigid body, Dugdale 40 mJ/m^2,
+    z0 = 0.2 nm) at 96^2, warm-started on a tilted gap (as the shear-induced normal displacement
+    of the coupling loop tilts it)."""
+    pair = ContactPair(Material(100e9, 0.25), Material.rigid())
+    grid = Grid.square(96, 0.6e-6)
+    op = free_boundary_operator(grid, pair)
+    h = sphere(grid, 40e-6)
+    inter = DugdaleAdhesion(40e-3, 0.2e-9)
+    first = solve_normal(op, h, force=8e-6, interaction=inter, tol=1e-10)
+    assert first.converged and first.adhesive.any()
+    x = (np.arange(96)[:, None] - 48) * grid.dx * np.ones((1, 96))
+    _solve_both(monkeypatch, op, h + 3e-6 * x, force=8e-6, interaction=inter, tol=1e-10, initial_pressure=first)
+
+
 def test_warm_start_with_pressure_outside_contact():
-    """A warm start whose pressure is nonzero outside the given contact disables the
-    sparse path under force control (the rescale would need K of that pressure)."""
+    """A warm start whose pressure is nonzero outside the given contact, under force control:
+    the rescale needs K of that pressure (W), which the sparse path convolves or updates."""
     n = 64
     op = _operator(True, n, n, 1.0, 1.0)
     s = _rough(n, n, seed=6) * 0.01

@@ -588,6 +588,7 @@ class _CGState(IterativeSolver):
             self.out_error = 0.0  # the rebuild below applies every outside stress
 
         sparse = None
+        w_change = W_old = None
         if not changed:
             p[idx] = p_c_new
             diff = float(xp.abs(tau * t_c).sum()) if not self.force_control else None
@@ -645,7 +646,15 @@ class _CGState(IterativeSolver):
             g[idx] = 0.0
             g[old_idx] = t_c
             t_c = g[idx]
-            self.W = None
+            # W = K(p_out + floor 1_C) of the new sets: the old one plus the columns of the
+            # changed nodes (leavers: floor -> outside stress; entering: outside stress ->
+            # floor; moved: old -> new outside stress), when there are few and it was known
+            W_old, self.W = self.W, None
+            if use_sparse and W_old is not None and not isinstance(W_old, float):
+                entering = cm[moved_nodes]
+                w_new = xp.where(entering, floor, p[moved_nodes]) if len(moved_nodes) else p_moved_old
+                w_change = (xp.concatenate((leavers, moved_nodes)),
+                            xp.concatenate((p[leavers] - floor, w_new - p_moved_old)))
             self.conjugate = False  # the problem changed: restart from steepest descent
         self.stable = 0 if changed else self.stable + 1
         self.left_last = old_idx[~stays] if (changed and not all_stay) else None
@@ -713,8 +722,7 @@ class _CGState(IterativeSolver):
                     if not isinstance(W, float):
                         u += (1.0 - scale) * W
                 self.u_exact = False
-        elif (changed and sparse is not None and self.since_exact < self.refresh
-              and (scale == 1.0 or self.w_zero)):
+        elif changed and sparse is not None and self.since_exact < self.refresh:
             u = self.u
             if r is not None:
                 r *= -tau
@@ -723,10 +731,19 @@ class _CGState(IterativeSolver):
             if self.columns is None:
                 self.columns = KernelColumns.of(op, self.spec_buf)
             self.columns.add(u.reshape(self.shape), sparse[0], sparse[1], self.g.reshape(self.shape))
-            if scale != 1.0:
-                u *= scale
-            self.n_sparse += 1
             self.n_columns += len(sparse[0])
+            if w_change is not None:
+                # the unscaled part's displacement of the new sets, from the old one (few columns)
+                self.columns.add(W_old.reshape(self.shape), w_change[0], w_change[1], self.g.reshape(self.shape))
+                self.W = W_old
+                self.n_columns += len(w_change[0])
+            if scale != 1.0:
+                # u <- s K p + (1 - s) W of the new sets (W: updated above, or one convolution)
+                u *= scale
+                W = 0.0 if self.w_zero else self._W()
+                if not isinstance(W, float):
+                    u += (1.0 - scale) * W
+            self.n_sparse += 1
             self.u_exact = False
         elif changed or moved:
             del r
