@@ -485,15 +485,15 @@ class Backend:
 
     @property
     def single_precision(self) -> bool:
-        """Whether the padded transforms run in single precision for float32 input.
+        """Whether transforms of float32 input run in single precision.
 
         The scipy.fft engine of the NumPy backend (pocketfft) transforms float32 arrays in
-        single precision, about 3x faster than double on this machine's 384^2 transforms
-        (benchmarks/README.md, "Single-precision search directions").  The solvers use it only
-        where an error of ~1e-7 relative to the transformed field is harmless: the images of
-        their search directions (corrected by the exact double-precision displacement before
-        any convergence test) and their preconditioners.  Other engines and CuPy: False (the
-        solvers stay in double precision).
+        single precision: about 1.7x faster than double for the row-skipping padded transforms
+        of a 188^2 box (375^2), about 3x for whole 2-D real transforms of that size
+        (benchmarks/README.md, the adhesive loop's single precision in TangCG).  The tangential
+        solver uses it where an error of ~1e-7 relative to the transformed field is harmless:
+        the images of its search directions and its preconditioner (the residual is taken from
+        a double-precision K q).  Other engines and CuPy: False (double precision throughout).
         """
         return self._lean()
 
