@@ -342,7 +342,9 @@ class _CGState(IterativeSolver):
         self.frozen = None
         self.n_frozen = 0
         self.freeze_after = FREEZE_AFTER
-        self.frozen_checked = False
+        # whether the frozen nodes' gaps were checked on the exact displacement of the last
+        # confirm, and on the one this iteration started from (see is_exact)
+        self.frozen_checked = self.started_checked = False
 
     def stats(self) -> dict:
         return {"kt": self.n_kt, "exact": self.n_exact, "w": self.n_w, "sparse_updates": self.n_sparse,
@@ -381,7 +383,7 @@ class _CGState(IterativeSolver):
     def is_exact(self) -> bool:
         """Whether the iteration started from an exact displacement (and, with nodes frozen out
         of the contact, their gaps were checked on it: :meth:`confirm`)."""
-        return self.started_exact and (self.frozen is None or self.frozen_checked)
+        return self.started_exact and (self.frozen is None or self.started_checked)
 
     def confirm(self, tol: float) -> bool:
         """Recompute the displacement exactly; convergence is then tested on the next iteration.
@@ -431,7 +433,7 @@ class _CGState(IterativeSolver):
             if self.frozen is None:
                 self.frozen = xp.zeros(self.size, dtype=bool)
             self.frozen[hot] = True
-            self.frozen_checked = False
+            self.started_checked = False  # not checked yet: no convergence before confirm
             overlap[hot] = False
             self.n_frozen += len(hot)
 
@@ -475,6 +477,8 @@ class _CGState(IterativeSolver):
         """One CG iteration; returns an error message when no equilibrium exists."""
         xp, op, floor, p = self.xp, self.op, self.floor, self.p
         self.started_exact = self.u_exact
+        # a check of the frozen nodes holds for the displacement it was made on only
+        self.started_checked, self.frozen_checked = self.frozen_checked and self.u_exact, False
         idx = self.idx
         n_c = len(idx)
         if self.force_control and n_c == 0:
