@@ -55,13 +55,12 @@ History
     takes a pass without pressure change as a contraction of 0 into the next step, which could
     stop that step after two passes at a pressure change of up to 6e-3.
 6
-    Polonsky-Keer holds out of the contact a node that re-enters right after leaving for the
-    second time in a solve (``solvers.normal.FREEZE_AFTER``), after checking its exact gap
-    before convergence.  Such a node sits at the floor with zero gap either way, so it may now
-    be counted outside the contact where the alternation ended inside (a cell of contact area);
-    forces and pressures within the tolerance.  TangCG's search directions and preconditioner
-    run in single precision on the NumPy backend with scipy.fft (results within the tangential
-    tolerance of the double ones).
+    TangCG's search directions and preconditioner run in single precision on the NumPy backend
+    with scipy.fft (results within the tangential tolerance of the double ones), and
+    Polonsky-Keer under force control with an outside stress updates its displacement by kernel
+    columns after a status change of a few nodes instead of recomputing it (round-off): the
+    iteration paths of adhesive and coupled solves change at round-off level, which can move a
+    multistable adhesive state to a neighbouring equilibrium.
 """
 
 from __future__ import annotations

@@ -87,9 +87,6 @@ PRECONDITION_AFTER = 2
 #: ... and only where the preconditioner's box transform is at most this fraction of the
 #: operator's transform (see ``_stiffness_box``).
 BOX_FRACTION = 0.5
-#: Freeze out of the contact a node that re-enters right after leaving for the ``FREEZE_AFTER``-th
-#: time in a solve (None: never).  See ``_CGState._freeze``.
-FREEZE_AFTER = 2
 
 
 def _self_compliance(op: ConvolutionOperator) -> float:
@@ -335,20 +332,10 @@ class _CGState(IterativeSolver):
         self.pre_active = False
         self.pre_box = None
         self.n_pre = 0
-        # Nodes that left the contact at the last iteration, re-entries right after leaving per
-        # node, and the nodes frozen out of the contact (see _freeze).
-        self.left_last = None
-        self.bounces = None
-        self.frozen = None
-        self.n_frozen = 0
-        self.freeze_after = FREEZE_AFTER
-        # whether the frozen nodes' gaps were checked on the exact displacement of the last
-        # confirm, and on the one this iteration started from (see is_exact)
-        self.frozen_checked = self.started_checked = False
 
     def stats(self) -> dict:
         return {"kt": self.n_kt, "exact": self.n_exact, "w": self.n_w, "sparse_updates": self.n_sparse,
-                "sparse_columns": self.n_columns, "preconditioned": self.n_pre, "frozen": self.n_frozen}
+                "sparse_columns": self.n_columns, "preconditioned": self.n_pre}
 
     def _box(self):
         """The preconditioner's box for the current contact set (cached), or None where it
@@ -381,61 +368,13 @@ class _CGState(IterativeSolver):
         return max(self.error, self.gap_residual, self.out_error)
 
     def is_exact(self) -> bool:
-        """Whether the iteration started from an exact displacement (and, with nodes frozen out
-        of the contact, their gaps were checked on it: :meth:`confirm`)."""
-        return self.started_exact and (self.frozen is None or self.started_checked)
+        """Whether the iteration started from an exact displacement."""
+        return self.started_exact
 
     def confirm(self, tol: float) -> bool:
-        """Recompute the displacement exactly; convergence is then tested on the next iteration.
-
-        Nodes frozen out of the contact (:meth:`_freeze`) whose exact gap is an overlap beyond
-        ``tol`` (relative to the gap scale) are released: the next iteration lets them in."""
+        """Recompute the displacement exactly; convergence is then tested on the next iteration."""
         self.make_exact()
-        if self.frozen is not None:
-            nodes = self.xp.flatnonzero(self.frozen)
-            g = self.u[nodes] + self.h[nodes] - (self.delta if self.force_control else self.shift)
-            self.frozen_checked = not bool((g < -tol * self.h_scale).any())
-            if not self.frozen_checked:
-                self.frozen = None
-                self.left_last = None
-                self.bounces = None
-                self.freeze_after = None  # no second freeze in this solve: the plain iteration
         return False
-
-    def _freeze(self, overlap):
-        """Keep out of the contact the overlapping nodes that left it at the last iteration, once
-        they have done so ``FREEZE_AFTER`` times (``overlap`` is updated in place).
-
-        A node at the edge of the contact whose pressure falls below the floor when it is in
-        and that overlaps when it is out alternates between the two at every iteration, each
-        change restarting the CG from steepest descent and keeping the preconditioner off: on
-        the adhesive loop of benchmarks/adhesive_loop.py a third of the normal iterations were
-        such alternations (runs of up to 45 iterations).  Such a node sits at the state where
-        both hold with equality (pressure at the floor, zero gap), which is also the state the
-        node has out of the contact at its outside stress at zero gap.  So it is held out of
-        the contact; :meth:`confirm` checks its exact gap before convergence is declared, and
-        releases every frozen node (for the rest of the solve) when one overlaps by more than
-        the tolerance: then the plain iteration decides."""
-        xp = self.xp
-        if self.frozen is not None:
-            overlap &= ~self.frozen
-        left = self.left_last
-        if left is None or len(left) == 0 or self.freeze_after is None:
-            return
-        back = left[overlap[left]]
-        if len(back) == 0:
-            return
-        if self.bounces is None:
-            self.bounces = xp.zeros(self.size, dtype=np.int16)
-        self.bounces[back] += 1
-        hot = back[self.bounces[back] >= self.freeze_after]
-        if len(hot):
-            if self.frozen is None:
-                self.frozen = xp.zeros(self.size, dtype=bool)
-            self.frozen[hot] = True
-            self.started_checked = False  # not checked yet: no convergence before confirm
-            overlap[hot] = False
-            self.n_frozen += len(hot)
 
     @property
     def cmask(self):
@@ -477,8 +416,6 @@ class _CGState(IterativeSolver):
         """One CG iteration; returns an error message when no equilibrium exists."""
         xp, op, floor, p = self.xp, self.op, self.floor, self.p
         self.started_exact = self.u_exact
-        # a check of the frozen nodes holds for the displacement it was made on only
-        self.started_checked, self.frozen_checked = self.frozen_checked and self.u_exact, False
         idx = self.idx
         n_c = len(idx)
         if self.force_control and n_c == 0:
@@ -557,7 +494,6 @@ class _CGState(IterativeSolver):
         else:
             xp.less(g, level, out=overlap)  # g - level < 0
             overlap[idx] = False
-        self._freeze(overlap)
         any_overlap = bool(overlap.any())
         self.conjugate = not any_overlap
         if self.has_outside:
@@ -661,7 +597,6 @@ class _CGState(IterativeSolver):
                             xp.concatenate((p[leavers] - floor, w_new - p_moved_old)))
             self.conjugate = False  # the problem changed: restart from steepest descent
         self.stable = 0 if changed else self.stable + 1
-        self.left_last = old_idx[~stays] if (changed and not all_stay) else None
         self.t_c = t_c
 
         # Step 6: force balance by scaling p - floor on the contact nodes.
