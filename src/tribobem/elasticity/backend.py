@@ -301,7 +301,7 @@ class Backend:
 
     # -- zero-padded transforms (free boundary) ---------------------------------------
 
-    def rfft2_padded(self, a, s, out=None, single: bool | None = None):
+    def rfft2_padded(self, a, s, out=None, single: bool = False):
         """:meth:`rfft2` of ``a`` (m1 x m2) zero-padded to ``s`` (N1 x N2, N >= m).
 
         With scipy.fft: the real FFT along y of the m1 rows only (the N1 - m1 padding rows
@@ -319,9 +319,9 @@ class Backend:
         out : ndarray, optional
             Complex work array of shape (N1, N2 // 2 + 1) to write into (scipy.fft path only;
             complex64 in single precision).
-        single : bool, optional
+        single : bool
             Transform in single precision (complex64; :attr:`single_precision` backends only,
-            ignored by the others).  None: when ``a`` is float32.
+            ignored by the others).
 
         Returns
         -------
@@ -334,7 +334,7 @@ class Backend:
         m1, m2 = a.shape
         N1, N2 = int(s[0]), int(s[1])
         w = self.threads(s)
-        real = np.float32 if (a.dtype == np.float32 if single is None else single) else np.float64
+        real = np.float32 if single else np.float64
         T = out if out is not None else np.empty((N1, N2 // 2 + 1), dtype=_COMPLEX[real])
         if m2 != N2:
             row = self._real_rows(m1, m2, N2, real)

@@ -592,7 +592,7 @@ class _CGState(IterativeSolver):
             W_old, self.W = self.W, None
             if use_sparse and W_old is not None and not isinstance(W_old, float):
                 entering = cm[moved_nodes]
-                w_new = xp.where(entering, floor, p[moved_nodes]) if len(moved_nodes) else p_moved_old
+                w_new = xp.where(entering, floor, p[moved_nodes])
                 w_change = (xp.concatenate((leavers, moved_nodes)),
                             xp.concatenate((p[leavers] - floor, w_new - p_moved_old)))
             self.conjugate = False  # the problem changed: restart from steepest descent

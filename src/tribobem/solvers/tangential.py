@@ -110,6 +110,9 @@ SINGLE_DIRECTIONS = True
 #: ... and the exact K q of a check as the last one plus K of the change of q in single
 #: precision, while that change is at most this fraction of |q| (L1; see ``_TangCG._exact``).
 INCREMENTAL_EXACT = 1e-3
+#: ... for at most this many checks in a row (then one in double precision: the single-precision
+#: errors of a long solve do not add up).
+INCREMENTAL_CHECKS = 20
 
 
 class GrossSlipError(InputError):
@@ -806,8 +809,7 @@ class _TangCG(IterativeSolver):
         if recompute:
             ref = self.exact_ref
             d = None
-            # (every 20th check in double precision: the single-precision errors do not add up)
-            if ref is not None and ref[3] < 20 and SINGLE_DIRECTIONS and st.top.be.single_precision:
+            if ref is not None and ref[3] < INCREMENTAL_CHECKS and SINGLE_DIRECTIONS and st.top.be.single_precision:
                 d = st.q - ref[0]
                 if float(self.xp.abs(d).sum()) > INCREMENTAL_EXACT * ref[2]:
                     d = None
