@@ -299,6 +299,51 @@ class Backend:
 
         return cfft.irfft2(a, s=s)
 
+    # -- transforms into work arrays (scipy.fft) --------------------------------------
+
+    def rfft2_into(self, a, out):
+        """:meth:`rfft2` of ``a`` (not padded) written into ``out``: the pocketfft call of
+        ``scipy.fft.rfft2``, so the same numbers to the last bit, without a fresh spectrum per
+        call (the preconditioners run at every step of their CG).  scipy.fft engine only
+        (:meth:`_lean`).
+
+        Parameters
+        ----------
+        a : ndarray
+            Real field (float64, or float32 for a single-precision transform).
+        out : ndarray
+            Complex work array of shape (N1, N2 // 2 + 1) (complex64 for float32 input).
+
+        Returns
+        -------
+        ndarray
+            ``out``.
+        """
+        _pocketfft.r2c(np.ascontiguousarray(a), (0, 1), True, 0, out, self.threads(a.shape))
+        return out
+
+    def irfft2_into(self, A, s, out):
+        """:meth:`irfft2` of ``A`` on the grid ``s`` written into ``out`` (``A`` is kept): the
+        pocketfft call of ``scipy.fft.irfft2``, the same numbers to the last bit.  scipy.fft engine
+        only (:meth:`_lean`).
+
+        Parameters
+        ----------
+        A : ndarray
+            Complex spectrum of shape (N1, N2 // 2 + 1).
+        s : tuple of int
+            The real grid (N1, N2).
+        out : ndarray
+            Real work array of shape ``s`` (float32 for a complex64 spectrum).
+
+        Returns
+        -------
+        ndarray
+            ``out``.
+        """
+        _pocketfft.c2r(A, (0, 1), int(s[1]), False, 2, out, self.threads(s))
+        return out
+
     # -- zero-padded transforms (free boundary) ---------------------------------------
 
     def rfft2_padded(self, a, s, out=None, single: bool = False):

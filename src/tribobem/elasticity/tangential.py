@@ -138,7 +138,7 @@ class TangentialOperator:
         key = (i, tuple(shape), np.dtype(dtype).str)
         b = bufs.get(key)
         if b is None:
-            if len(bufs) >= 16:  # many box shapes along a path: keep the memory bounded
+            if len(bufs) >= 32:  # many box shapes along a path: keep the memory bounded
                 bufs.clear()
             b = bufs[key] = self.xp.empty(shape, dtype=dtype)
         return b
@@ -268,6 +268,8 @@ class TangentialOperator:
         if rx.dtype == np.float32 and be.single_precision:
             # single-precision residuals: single-precision transforms and spectra
             spec = {k: single_spectrum(self, ("preconditioner", box, k), v) for k, v in spec.items()}
+        if be._lean():
+            return self._precondition_lean(rx, ry, box, spec)
         Rx, Ry = be.rfft2(rx, s=box), be.rfft2(ry, s=box)
         if "xy" in spec:
             Zx = Rx * spec["xx"] + Ry * spec["xy"]
@@ -275,6 +277,32 @@ class TangentialOperator:
         else:
             Zx, Zy = Rx * spec["xx"], Ry * spec["yy"]
         return be.irfft2(Zx, s=box), be.irfft2(Zy, s=box)
+
+    def _precondition_lean(self, rx, ry, box, spec):
+        """:meth:`precondition` with scipy.fft: the same transforms (:meth:`Backend.rfft2_into`,
+        :meth:`Backend.irfft2_into`: the same numbers) into reused spectra and fields instead of
+        six fresh arrays per call (the preconditioner runs at every TangCG step).  The fields
+        returned are work arrays, valid until the next call."""
+        be, xp = self.be, self.xp
+        single = rx.dtype == np.float32
+        ctype = np.complex64 if single else complex
+        shp = (box[0], box[1] // 2 + 1)
+        Rx = be.rfft2_into(rx, self._work(20, shp, ctype))
+        Ry = be.rfft2_into(ry, self._work(21, shp, ctype))
+        Zx = self._work(22, shp, ctype)
+        if "xy" in spec:
+            Zy = self._work(23, shp, ctype)
+            xp.multiply(Rx, spec["xx"], out=Zx)
+            xp.multiply(Ry, spec["xy"], out=Zy)
+            Zx += Zy
+            xp.multiply(Ry, spec["yy"], out=Zy)
+            xp.multiply(Rx, spec["yx"], out=Rx)
+            Zy += Rx
+        else:
+            xp.multiply(Rx, spec["xx"], out=Zx)
+            Zy = xp.multiply(Ry, spec["yy"], out=Ry)
+        real = np.float32 if single else np.float64
+        return be.irfft2_into(Zx, box, self._work(24, box, real)), be.irfft2_into(Zy, box, self._work(25, box, real))
 
     def box_spectra(self, box) -> tuple | None:
         """FFT shape and spectra of K_tt for tractions confined to a box of a free-boundary grid.

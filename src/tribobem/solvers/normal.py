@@ -68,6 +68,7 @@ import time
 
 import numpy as np
 
+from ..elasticity.backend import work_buffers
 from ..elasticity.columns import KernelColumns, convolve, convolve_buffers
 from ..elasticity.operators import ConvolutionOperator
 from ..errors import InputError
@@ -350,7 +351,20 @@ class _CGState(IterativeSolver):
         (bi, bj), N, q, w = self._box()
         be = self.op.backend
         w[bi, bj] = g_c
-        z = be.irfft2(be.rfft2(w) * q, s=N)[bi, bj]
+        if be._lean():
+            # the same pocketfft transforms into reused work arrays (no fresh spectra per step)
+            bufs = work_buffers(self.op)
+            key = ("box", tuple(N))
+            if key not in bufs:
+                if len(bufs) >= 8:  # box shapes along a load path: keep the memory bounded
+                    bufs.clear()
+                bufs[key] = (np.empty((N[0], N[1] // 2 + 1), dtype=complex), np.empty(tuple(N)))
+            T, rows = bufs[key]
+            be.rfft2_into(w, T)
+            T *= q
+            z = be.irfft2_into(T, N, rows)[bi, bj]
+        else:
+            z = be.irfft2(be.rfft2(w) * q, s=N)[bi, bj]
         w[bi, bj] = 0.0  # the box buffer stays zero off the contact for the next call
         self.n_pre += 1
         if self.force_control:

@@ -108,8 +108,11 @@ USE_BOX = True
 #: from it (``_TangCG._exact``).
 SINGLE_DIRECTIONS = True
 #: ... and the exact K q of a check as the last one plus K of the change of q in single
-#: precision, while that change is at most this fraction of |q| (L1; see ``_TangCG._exact``).
+#: precision, while that change is at most this fraction of |q| (L1; see ``_TangCG._exact``),
+#: at a tolerance of at most ``INCREMENTAL_TOL``; above it the fraction grows with the tolerance,
+#: to at most 100x (the loose solves of the coupling loop's predictor and early passes).
 INCREMENTAL_EXACT = 1e-3
+INCREMENTAL_TOL = 1e-7
 #: ... for at most this many checks in a row (then one in double precision: the single-precision
 #: errors of a long solve do not add up).
 INCREMENTAL_CHECKS = 20
@@ -560,6 +563,18 @@ class _Tangential:
             ux, uy = self.top.box_shear_displacement(bx.reshape(box), by.reshape(box), single=single)
             bx[local] = 0.0
             by[local] = 0.0
+            if self.xp is np and ux.ndim == 2 and ux.strides[1] == ux.itemsize == uy.itemsize \
+                    and ux.strides == uy.strides:
+                # NumPy: gather straight from the transform's rows (ux, uy are column slices of
+                # them) into the float64 result: no raveled copy of the box, no stack, no cast
+                u = np.empty((2, self.n))
+                rs = ux.strides[0] // ux.itemsize
+                at = self._gather_index(local, box, rs)
+                for k, a in enumerate((ux, uy)):
+                    flat = np.lib.stride_tricks.as_strided(a, shape=((a.shape[0] - 1) * rs + a.shape[1],),
+                                                           strides=(a.itemsize,), writeable=False)
+                    u[k] = np.take(flat, at)
+                return u
             u = self.xp.stack([ux.ravel()[local], uy.ravel()[local]])
             return u if u.dtype == np.float64 else u.astype(np.float64)
         fx, fy = self.full
@@ -570,6 +585,15 @@ class _Tangential:
         fx[self.idx] = 0.0
         fy[self.idx] = 0.0
         return self.xp.stack([ux.ravel()[self.idx], uy.ravel()[self.idx]])
+
+    def _gather_index(self, local, box, row_stride: int):
+        """The flat indices ``local`` of the contact nodes in a ``box`` laid out with rows of
+        ``row_stride`` elements (cached per stride)."""
+        cache = self.__dict__.setdefault("_gather_cache", {})
+        at = cache.get(row_stride)
+        if at is None:
+            at = cache[row_stride] = (local // box[1]) * row_stride + local % box[1]
+        return at
 
     def _box(self):
         """The preconditioner's box: the bounding box of the contact nodes (the whole axis where
@@ -723,18 +747,14 @@ class _Tangential:
         xp = self.xp
         s = _less_delta(self.Kq + self.v0, self.delta)
         stick = self.stick
-        viol = xp.zeros(self.n)
-        if bool(stick.any()):
-            viol[stick] = xp.sqrt(s[0, stick] ** 2 + s[1, stick] ** 2)
-        slip = ~stick
-        if bool(slip.any()):
-            qs = self.q[:, slip]
-            b = xp.where(self.bound[slip] > 0, self.bound[slip], 1.0)
-            d = qs / b  # unit direction of the traction
-            ss = s[:, slip]
-            smag = xp.sqrt(ss[0] ** 2 + ss[1] ** 2)
-            # s should equal -|s| d: the residual is |s + |s| d|.
-            viol[slip] = xp.sqrt((ss[0] + smag * d[0]) ** 2 + (ss[1] + smag * d[1]) ** 2)
+        # Whole-array arithmetic on the contact nodes (no boolean gathers): stick nodes violate
+        # by |s|, slip nodes by |s + |s| d| (s should equal -|s| d, d = q / (mu p) the unit
+        # direction of the traction).
+        smag = xp.sqrt(s[0] * s[0] + s[1] * s[1])
+        b = xp.where(self.bound > 0, self.bound, 1.0)
+        ex = s[0] + smag * (self.q[0] / b)
+        ey = s[1] + smag * (self.q[1] / b)
+        viol = xp.where(stick, smag, xp.sqrt(ex * ex + ey * ey))
         self.complementarity = float(xp.sqrt((viol * viol).mean())) if self.n else 0.0
 
 
@@ -804,14 +824,17 @@ class _TangCG(IterativeSolver):
 
         With single-precision directions, K q is the last exact one plus K of the change of q
         since then in single precision, while that change is at most ``INCREMENTAL_EXACT`` of
-        |q| (L1): its error, ~1e-7 of K of the change, is then ~1e-10 of K q per check."""
+        |q| (L1): its error, ~1e-7 of K of the change, is then ~1e-10 of K q per check.  At a
+        tolerance above ``INCREMENTAL_TOL`` the fraction is INCREMENTAL_EXACT x tol /
+        INCREMENTAL_TOL (at most 100x): the error per check stays ~1e-3 of the tolerance."""
         st = self.st
         if recompute:
             ref = self.exact_ref
             d = None
             if ref is not None and ref[3] < INCREMENTAL_CHECKS and SINGLE_DIRECTIONS and st.top.be.single_precision:
                 d = st.q - ref[0]
-                if float(self.xp.abs(d).sum()) > INCREMENTAL_EXACT * ref[2]:
+                limit = INCREMENTAL_EXACT * min(100.0, max(1.0, self.tol / INCREMENTAL_TOL))
+                if float(self.xp.abs(d).sum()) > limit * ref[2]:
                     d = None
             st.Kq = st._apply(st.q) if d is None else ref[1] + st._apply(d, single=True)
             st.n_apply += 1
