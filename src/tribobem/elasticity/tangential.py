@@ -70,13 +70,15 @@ class TangentialOperator:
     def _crop(self, u):
         return u if self.periodic else u[: self.shape[0], : self.shape[1]]
 
-    def _combine(self, outs: str, ins: str, fields, spectra=None, fft_shape=None, single=False) -> list:
+    def _combine(self, outs: str, ins: str, fields, spectra=None, fft_shape=None, single=False,
+                 scratch=False) -> list:
         be = self.be
         spectra = self.spec if spectra is None else spectra
         boxed = fft_shape is not None
         fft_shape = self.fft_shape if fft_shape is None else fft_shape
         if be._lean() and not self.periodic:
-            return self._combine_padded(outs, ins, fields, spectra, fft_shape, single and be.single_precision)
+            return self._combine_padded(outs, ins, fields, spectra, fft_shape, single and be.single_precision,
+                                        scratch)
         F = {c: be.rfft2(f, s=fft_shape) for c, f in zip(ins, fields) if f is not None}
         res = []
         for o in outs:
@@ -107,11 +109,12 @@ class TangentialOperator:
                 acc += tmp
         return acc
 
-    def _combine_padded(self, outs, ins, fields, spectra, fft_shape, single=False) -> list:
+    def _combine_padded(self, outs, ins, fields, spectra, fft_shape, single=False, scratch=False) -> list:
         """``_combine`` for zero-padded (free-boundary or box) transforms with scipy.fft: the
         transforms of :meth:`Backend.rfft2_padded` and :meth:`Backend.irfft2_rows` (the padding
         rows skipped, no fresh spectra: every array reused), results m1 x m2 as the inputs
-        (float32 with ``single``: single-precision transforms and spectra)."""
+        (float32 with ``single``: single-precision transforms and spectra; ``scratch``: in reused
+        work arrays, valid until the next call)."""
         be = self.be
         m1, m2 = next(f for f in fields if f is not None).shape
         shp = (fft_shape[0], fft_shape[1] // 2 + 1)
@@ -123,12 +126,14 @@ class TangentialOperator:
                 F[c] = be.rfft2_padded(f, fft_shape, out=self._work(10 + k, shp, np.complex64 if single else complex),
                                        single=single)
         res = []
-        for o in outs:
+        real = np.float32 if single else np.float64
+        for i, o in enumerate(outs):
             acc = self._product(o, F, spectra)
             if acc is None:
                 res.append(None)
             else:
-                u = be.irfft2_rows(acc, fft_shape, m1)
+                out = self._work(30 + i, (m1, fft_shape[1]), real) if scratch else None
+                u = be.irfft2_rows(acc, fft_shape, m1, out=out)
                 res.append(u[:, :m2])
         return res
 
@@ -352,25 +357,29 @@ class TangentialOperator:
             kb[np.ix_(d1 % N[0], d2 % N[1])] = k[np.ix_(d1 % F1, d2 % F2)]
             spec = np.fft.rfft2(kb)
             if np.abs(spec.imag).max() <= 1e-12 * max(np.abs(spec.real).max(), 1e-300):
-                spec = np.ascontiguousarray(spec.real)  # even or odd-odd kernels: real symbols
+                # even or odd-odd kernels: real symbols, kept complex with zero imaginary parts
+                # (the same products; NumPy multiplies complex by complex faster than by real)
+                spec = spec.real.astype(complex)
             spectra[key] = self.be.asarray(spec)
         if len(cache) >= 8:  # keep the latest transform shapes only
             cache.pop(next(iter(cache)))
         cache[N] = (N, spectra)
         return cache[N]
 
-    def box_shear_displacement(self, qx, qy, single: bool = False):
+    def box_shear_displacement(self, qx, qy, single: bool = False, scratch: bool = False):
         """K_tt q on a box of a free-boundary grid, for a shear that vanishes outside the box.
 
         Parameters
         ----------
         qx, qy : array
             Shear tractions (Pa) on a box of (m1, m2) cells.
-
         single : bool
             Single-precision transforms (float32 results, relative error ~1e-7; for the images
             of TangCG's search directions) where the backend supports them
             (``Backend.single_precision``).
+        scratch : bool
+            Return the displacements in work arrays of the operator, overwritten by its next
+            call (for a caller that reads them at once, as TangCG does).
 
         Returns
         -------
@@ -380,7 +389,7 @@ class TangentialOperator:
         """
         box = tuple(qx.shape)
         N, spec = self.box_spectra(box)
-        ux, uy = self._combine("xy", "xy", (qx, qy), spectra=spec, fft_shape=N, single=single)
+        ux, uy = self._combine("xy", "xy", (qx, qy), spectra=spec, fft_shape=N, single=single, scratch=scratch)
         z = self.xp.zeros(box)
         return (z if ux is None else ux[: box[0], : box[1]]), (z if uy is None else uy[: box[0], : box[1]])
 

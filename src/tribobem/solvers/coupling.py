@@ -247,8 +247,10 @@ def solve_coupled(
         if contact0 is not None:
             return solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
                                 initial_pressure=warm, initial_contact=contact0, method=normal_method, **normal_load)
+        # a NormalResult of an earlier pass (this operator): its displacement is K p of the warm start
+        u_warm = warm.displacement if isinstance(warm, NormalResult) and normal_method == "polonsky_keer" else None
         return solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
-                            initial_pressure=warm, method=normal_method, **normal_load)
+                            initial_pressure=warm, initial_displacement=u_warm, method=normal_method, **normal_load)
 
     shear = None
     stick = None

@@ -142,7 +142,8 @@ def _stiffness_box(op: ConvolutionOperator, idx):
         q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
         # the mean: the longest wavelength's stiffness (the force-balanced CG never uses it)
         q[0, 0] = min(float(qx[1]) if n1 > 1 else math.inf, float(qy[1]) if n2 > 1 else math.inf)
-        q = cache[(n1, n2)] = op.backend.asarray(q)
+        # complex with zero imaginary parts: the same products, faster in NumPy than by a real array
+        q = cache[(n1, n2)] = op.backend.asarray(q.astype(complex))
     return (i - i0, j - j0), (n1, n2), q, op.xp.zeros((n1, n2))
 
 
@@ -157,6 +158,7 @@ def solve_normal(
     max_iterations: int = 10000,
     initial_pressure=None,
     initial_contact=None,
+    initial_displacement=None,
     strict: bool = False,
     refresh: int = 50,
     stall: int = 2000,
@@ -193,6 +195,11 @@ def solve_normal(
         Contact mask that goes with ``initial_pressure``; by default the nodes with
         p > floor (with adhesion, pass it: a node at p = 0 outside the cohesive zone is
         otherwise taken as in contact for the first iteration).
+    initial_displacement : array_like, optional
+        Polonsky-Keer only: the displacement K p (m) of ``initial_pressure`` on this operator,
+        when the caller has it (e.g. the ``displacement`` of the :class:`NormalResult` passed as
+        ``initial_pressure``, solved on the same operator): it replaces the first convolution.
+        Used only when the warm start is that pressure unchanged (none of it raised to the floor).
     strict : bool
         Raise :class:`~tribobem.errors.ConvergenceError` instead of warning when the solver
         does not converge.
@@ -242,8 +249,16 @@ def solve_normal(
     op = operator.normal
     h, inter, floor, force_control, target, shift, p, contact = normal_problem(
         op, gap, force, approach, interaction, tol, max_iterations, initial_pressure, initial_contact)
+    u0 = None
+    if initial_displacement is not None and initial_pressure is not None:
+        # only for the warm start's own pressure (normal_problem raises it to the floor)
+        p_given = initial_pressure.pressure if isinstance(initial_pressure, NormalResult) else initial_pressure
+        u0 = op.xp.asarray(initial_displacement, dtype=float)
+        if u0.shape != p.shape or not bool(op.xp.array_equal(p, op.xp.asarray(p_given))):
+            u0 = None
     state = _CGState(op, inter, floor, h, shift, p, contact, force_control, target, refresh,
-                     PRECONDITION_AFTER if precondition else None)
+                     PRECONDITION_AFTER if precondition else None, u0)
+    del u0
     del p, contact  # the state owns the pressure and a copy of the mask
     outcome = run_iterations(state, tol=tol, max_iterations=max_iterations, stall=stall)
     p, contact = state.full_pressure(), state.cmask
@@ -276,7 +291,7 @@ class _CGState(IterativeSolver):
     """
 
     def __init__(self, op, inter, floor, h, shift, p, contact, force_control, target, refresh,
-                 precondition_after=None):
+                 precondition_after=None, u0=None):
         xp = op.xp
         self.op, self.xp, self.inter, self.floor = op, xp, inter, floor
         self.h = h.ravel()
@@ -304,6 +319,7 @@ class _CGState(IterativeSolver):
         self.ovmask = xp.empty(self.size, dtype=bool)
         self.W = None  # K(p_out + floor 1_C), valid while no node changes status
         self.u = None
+        self.u0 = u0  # K p of the start, when the caller knew it (see solve_normal)
         # Stress of a node that just left the contact (its gap is ~0), per node: a law may
         # depend on the position (e.g. meniscus islands).
         self.s0 = inter.outside_stress(xp.zeros(self.size), xp) if self.has_outside else 0.0
@@ -374,6 +390,14 @@ class _CGState(IterativeSolver):
     # -- the steps run by iteration.run_iterations
     def start(self):
         """Exact displacement of the initial pressure (the start always exists: None)."""
+        if self.u0 is not None:
+            # the caller's K p of this pressure (the same convolution, done by the last solve): a copy,
+            # the state updates its displacement in place
+            self.u = self.xp.array(self.u0, dtype=float).ravel()
+            self.u0 = None
+            self.u_exact = True
+            self.since_exact = 0
+            return
         self.make_exact()
 
     def residual(self) -> float:

@@ -560,7 +560,7 @@ class _Tangential:
             box, local, bx, by = boxed
             bx[local] = t[0]
             by[local] = t[1]
-            ux, uy = self.top.box_shear_displacement(bx.reshape(box), by.reshape(box), single=single)
+            ux, uy = self.top.box_shear_displacement(bx.reshape(box), by.reshape(box), single=single, scratch=True)
             bx[local] = 0.0
             by[local] = 0.0
             if self.xp is np and ux.ndim == 2 and ux.strides[1] == ux.itemsize == uy.itemsize \
