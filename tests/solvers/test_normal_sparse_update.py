@@ -163,3 +163,36 @@ def test_warm_start_with_pressure_outside_contact():
                        initial_contact=contact)
     assert res.converged
     assert abs(res.force - 0.011 * E_STAR) <= 1e-9 * 0.011 * E_STAR
+
+
+def test_initial_displacement_replaces_the_first_convolution():
+    """A warm start from a NormalResult on the same operator may hand over its displacement
+    (K p of its pressure, as the coupling loop's passes do): the same iterates to the last bit,
+    one exact convolution fewer.  A displacement that does not belong to the warm start (the
+    pressure raised to the floor) is not used."""
+    pair = ContactPair(Material(100e9, 0.25), Material.rigid())
+    grid = Grid.square(64, 0.6e-6)
+    op = free_boundary_operator(grid, pair)
+    h = sphere(grid, 40e-6)
+    inter = DugdaleAdhesion(40e-3, 0.2e-9)
+    first = solve_normal(op, h, force=8e-6, interaction=inter, tol=1e-10)
+    assert first.converged
+    x = (np.arange(64)[:, None] - 32) * grid.dx * np.ones((1, 64))
+    tilted = h + 3e-6 * x
+    plain = solve_normal(op, tilted, force=8e-6, interaction=inter, tol=1e-10, initial_pressure=first)
+    given = solve_normal(op, tilted, force=8e-6, interaction=inter, tol=1e-10, initial_pressure=first,
+                         initial_displacement=first.displacement)
+    assert plain.converged and given.converged
+    assert np.array_equal(plain.pressure, given.pressure)
+    assert np.array_equal(plain.contact, given.contact)
+    assert plain.iterations == given.iterations
+    assert given.info["counters"]["exact"] == plain.info["counters"]["exact"] - 1
+    # a pressure below the floor is raised by the solver: the handed displacement is not its K p
+    low = first.pressure.copy()
+    low[0, 0] = -1e12
+    ref = solve_normal(op, tilted, force=8e-6, interaction=inter, tol=1e-10, initial_pressure=low,
+                       initial_contact=first.contact)
+    wrong = solve_normal(op, tilted, force=8e-6, interaction=inter, tol=1e-10, initial_pressure=low,
+                         initial_contact=first.contact, initial_displacement=first.displacement)
+    assert np.array_equal(ref.pressure, wrong.pressure)
+    assert wrong.info["counters"]["exact"] == ref.info["counters"]["exact"]

@@ -648,3 +648,23 @@ def test_a_pass_without_pressure_change_measures_no_contraction():
     assert _contraction([0.0, 5.6e-3], 0.0, 1) is None
     assert _contraction([0.0, 5.6e-3], 0.05, 1) == pytest.approx(0.1)
     assert _remaining(5.6e-3, 0.1) > 1e-12
+
+
+def test_likely_last_pass_uses_the_larger_contraction():
+    """The pass predicted to be the last is solved at the run's normal tolerance; the prediction
+    takes the larger of the step's measured contraction and the last step's, because the
+    contraction grows over a step's passes (numbers of the adhesive loop's four-pass steps:
+    changes 6.4e-3, 2.6e-4, then 1.8e-5 with rho 0.07 -> another pass was needed)."""
+    from tribobem.solvers.coupling import _likely_last
+
+    tol = 1e-6
+    # measured rho 0.04 alone predicts a remaining error 4.4e-7 < tol: taken as the last ...
+    assert _likely_last(0.04, None, True, 2.6e-4, tol)
+    # ... but with the last step's 0.1 the prediction is 2.9e-6 > tol: not the last
+    assert not _likely_last(0.04, 0.1, True, 2.6e-4, tol)
+    # a three-pass step (changes 1.3e-3, 8.1e-5; rho 0.064, last step 0.069): the last
+    assert _likely_last(0.064, 0.069, True, 8.1e-5, tol)
+    # before the step has measured its own contraction: twice the hint, with a 5x margin
+    assert _likely_last(0.1, 0.05, False, 2.0e-4, tol)
+    assert not _likely_last(0.1, 0.05, False, 1.0e-3, tol)
+    assert not _likely_last(None, 0.05, True, 1e-12, tol)

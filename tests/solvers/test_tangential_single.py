@@ -98,3 +98,27 @@ def test_coupled_ball_unchanged(monkeypatch):
     p = np.abs(double.normal.pressure).sum()
     assert np.abs(single.normal.pressure - double.normal.pressure).sum() < 1e-9 * p
     assert single.tangential.displacement_x == pytest.approx(double.tangential.displacement_x, rel=1e-9)
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_preconditioner_in_work_arrays_gives_the_plain_numbers(catt, dtype):
+    """TangCG's preconditioner on NumPy with scipy.fft transforms into reused work arrays: the
+    numbers of the plain rfft2 / irfft2 products to the last bit (float32: with the spectra in
+    single precision)."""
+    import scipy.fft
+
+    op, _ = catt
+    top = tangential_operator(op)
+    if not top.be._lean():
+        pytest.skip("scipy.fft's pocketfft out= API not available")
+    rng = np.random.default_rng(6)
+    rx, ry = (rng.standard_normal((2, 40, 44)) * 1e-9).astype(dtype)
+    spec = top.preconditioner_spectra((40, 44))
+    ctype = np.complex64 if dtype == np.float32 else complex
+    s = {k: v.astype(ctype) for k, v in spec.items()}
+    Rx, Ry = scipy.fft.rfft2(rx), scipy.fft.rfft2(ry)
+    ref_x = scipy.fft.irfft2(Rx * s["xx"] + Ry * s["xy"], s=(40, 44))
+    ref_y = scipy.fft.irfft2(Rx * s["yx"] + Ry * s["yy"], s=(40, 44))
+    zx, zy = top.precondition(rx, ry)
+    assert zx.dtype == dtype
+    assert np.array_equal(zx, ref_x) and np.array_equal(zy, ref_y)
