@@ -588,7 +588,8 @@ class _Tangential:
 
     def _gather_index(self, local, box, row_stride: int):
         """The flat indices ``local`` of the contact nodes in a ``box`` laid out with rows of
-        ``row_stride`` elements (cached per stride)."""
+        ``row_stride`` elements (cached per stride: ``local`` and ``box`` are this state's, fixed
+        by its contact set)."""
         cache = self.__dict__.setdefault("_gather_cache", {})
         at = cache.get(row_stride)
         if at is None:
