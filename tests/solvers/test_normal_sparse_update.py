@@ -138,15 +138,23 @@ def test_sparse_dugdale_force_control(monkeypatch):
     benchmarks/adhesive_loop.py (R = 40 um, 100 GPa / 0.25 on a rigid body, Dugdale 40 mJ/m^2,
     z0 = 0.2 nm) at 96^2, warm-started on a tilted gap (as the shear-induced normal displacement
     of the coupling loop tilts it)."""
+    op, h, tilted, inter, first = _adhesive_ball(96)
+    assert first.adhesive.any()
+    _solve_both(monkeypatch, op, tilted, force=8e-6, interaction=inter, tol=1e-10, initial_pressure=first)
+
+
+def _adhesive_ball(n):
+    """The ball of benchmarks/adhesive_loop.py on n^2 cells: (operator, gap, the gap tilted as the
+    coupling loop's shear-induced displacement tilts it, the Dugdale law, the solved first state)."""
     pair = ContactPair(Material(100e9, 0.25), Material.rigid())
-    grid = Grid.square(96, 0.6e-6)
+    grid = Grid.square(n, 0.6e-6)
     op = free_boundary_operator(grid, pair)
     h = sphere(grid, 40e-6)
     inter = DugdaleAdhesion(40e-3, 0.2e-9)
     first = solve_normal(op, h, force=8e-6, interaction=inter, tol=1e-10)
-    assert first.converged and first.adhesive.any()
-    x = (np.arange(96)[:, None] - 48) * grid.dx * np.ones((1, 96))
-    _solve_both(monkeypatch, op, h + 3e-6 * x, force=8e-6, interaction=inter, tol=1e-10, initial_pressure=first)
+    assert first.converged
+    x = (np.arange(n)[:, None] - n // 2) * grid.dx * np.ones((1, n))
+    return op, h, h + 3e-6 * x, inter, first
 
 
 def test_warm_start_with_pressure_outside_contact():
@@ -170,15 +178,7 @@ def test_initial_displacement_replaces_the_first_convolution():
     (K p of its pressure, as the coupling loop's passes do): the same iterates to the last bit,
     one exact convolution fewer.  A displacement that does not belong to the warm start (the
     pressure raised to the floor) is not used."""
-    pair = ContactPair(Material(100e9, 0.25), Material.rigid())
-    grid = Grid.square(64, 0.6e-6)
-    op = free_boundary_operator(grid, pair)
-    h = sphere(grid, 40e-6)
-    inter = DugdaleAdhesion(40e-3, 0.2e-9)
-    first = solve_normal(op, h, force=8e-6, interaction=inter, tol=1e-10)
-    assert first.converged
-    x = (np.arange(64)[:, None] - 32) * grid.dx * np.ones((1, 64))
-    tilted = h + 3e-6 * x
+    op, h, tilted, inter, first = _adhesive_ball(64)
     plain = solve_normal(op, tilted, force=8e-6, interaction=inter, tol=1e-10, initial_pressure=first)
     given = solve_normal(op, tilted, force=8e-6, interaction=inter, tol=1e-10, initial_pressure=first,
                          initial_displacement=first.displacement)
