@@ -692,6 +692,39 @@ def work_buffers(owner) -> dict:
     return bufs
 
 
+def work_array(owner, key, shape, dtype, xp=np, limit: int = 32):
+    """A reusable work array of ``owner`` (per thread, :func:`work_buffers`), made on first use
+    under ``key`` with this shape and dtype; its content is whatever the last user left.  When
+    ``owner`` already holds ``limit`` arrays they are all dropped first (the box shapes of a load
+    path change: the memory stays bounded).
+
+    Parameters
+    ----------
+    owner : object
+        The operator the array belongs to.
+    key : hashable
+        The caller's name for the array (shape and dtype are added to it).
+    shape : tuple of int
+    dtype : dtype
+    xp : module
+        The array module to allocate with (NumPy or CuPy).
+    limit : int
+        Largest number of arrays kept per owner and thread.
+
+    Returns
+    -------
+    ndarray
+    """
+    bufs = work_buffers(owner)
+    full = (key, tuple(int(n) for n in shape), np.dtype(dtype).str)
+    b = bufs.get(full)
+    if b is None:
+        if len(bufs) >= limit:
+            bufs.clear()
+        b = bufs[full] = xp.empty(shape, dtype=dtype)
+    return b
+
+
 def cupy_available() -> bool:
     """True when CuPy imports and sees at least one CUDA device.
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from .backend import single_spectrum, work_buffers
+from .backend import single_spectrum, work_array
 from .operators import ConvolutionOperator
 
 __all__ = ["TangentialOperator", "tangential_operator"]
@@ -139,14 +139,7 @@ class TangentialOperator:
 
     def _work(self, i: int, shape, dtype):
         """Reused spectral work array number ``i`` (its content is overwritten by the caller)."""
-        bufs = work_buffers(self)
-        key = (i, tuple(shape), np.dtype(dtype).str)
-        b = bufs.get(key)
-        if b is None:
-            if len(bufs) >= 32:  # many box shapes along a path: keep the memory bounded
-                bufs.clear()
-            b = bufs[key] = self.xp.empty(shape, dtype=dtype)
-        return b
+        return work_array(self, i, shape, dtype, self.xp)
 
     def shear_displacement(self, qx, qy):
         """In-plane relative displacement from the shear: K_tt q.

@@ -43,11 +43,11 @@ def versions() -> dict:
         they are installed (the version of the module the run imported, else the installed
         distribution's).
     """
+    from importlib.metadata import version
+
     import scipy
 
     try:
-        from importlib.metadata import version
-
         tb = version("tribobem")
     except Exception:  # pragma: no cover - not installed
         tb = __version__
@@ -62,8 +62,6 @@ def versions() -> dict:
             out[mod] = getattr(m, "__version__", "")
             continue
         try:
-            from importlib.metadata import version
-
             out[mod] = version(mod)
         except Exception:  # not installed
             pass

@@ -68,7 +68,7 @@ import time
 
 import numpy as np
 
-from ..elasticity.backend import work_buffers
+from ..elasticity.backend import work_array
 from ..elasticity.columns import KernelColumns, convolve, convolve_buffers
 from ..elasticity.operators import ConvolutionOperator
 from ..errors import InputError
@@ -258,8 +258,7 @@ def solve_normal(
             u0 = None
     state = _CGState(op, inter, floor, h, shift, p, contact, force_control, target, refresh,
                      PRECONDITION_AFTER if precondition else None, u0)
-    del u0
-    del p, contact  # the state owns the pressure and a copy of the mask
+    del p, contact, u0  # the state owns the pressure, a copy of the mask and of the displacement
     outcome = run_iterations(state, tol=tol, max_iterations=max_iterations, stall=stall)
     p, contact = state.full_pressure(), state.cmask
     counters = state.stats()  # result.info["counters"] (benchmarks/profile_iteration.py, tests)
@@ -369,13 +368,8 @@ class _CGState(IterativeSolver):
         w[bi, bj] = g_c
         if be._lean():
             # the same pocketfft transforms into reused work arrays (no fresh spectra per step)
-            bufs = work_buffers(self.op)
-            key = ("box", tuple(N))
-            if key not in bufs:
-                if len(bufs) >= 8:  # box shapes along a load path: keep the memory bounded
-                    bufs.clear()
-                bufs[key] = (np.empty((N[0], N[1] // 2 + 1), dtype=complex), np.empty(tuple(N)))
-            T, rows = bufs[key]
+            T = work_array(self.op, "box spectrum", (N[0], N[1] // 2 + 1), complex, limit=8)
+            rows = work_array(self.op, "box field", N, float, limit=8)
             be.rfft2_into(w, T)
             T *= q
             z = be.irfft2_into(T, N, rows)[bi, bj]

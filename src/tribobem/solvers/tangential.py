@@ -793,6 +793,8 @@ class _TangCG(IterativeSolver):
         self.preconditioner = preconditioner
         self.inner = self.INNER if preconditioner == "diagonal" else self.INNER_FFT
         self.s_scale, self.tol = s_scale, tol
+        # largest change of q (fraction of |q|_1) for an incremental exact K q (see _exact)
+        self.incremental_limit = INCREMENTAL_EXACT * min(100.0, max(1.0, tol / INCREMENTAL_TOL))
         self.best = (float("inf"), None, None, None)
         self.stick = st._stick_mask()
         self.res = None
@@ -834,8 +836,7 @@ class _TangCG(IterativeSolver):
             d = None
             if ref is not None and ref[3] < INCREMENTAL_CHECKS and SINGLE_DIRECTIONS and st.top.be.single_precision:
                 d = st.q - ref[0]
-                limit = INCREMENTAL_EXACT * min(100.0, max(1.0, self.tol / INCREMENTAL_TOL))
-                if float(self.xp.abs(d).sum()) > limit * ref[2]:
+                if float(self.xp.abs(d).sum()) > self.incremental_limit * ref[2]:
                     d = None
             st.Kq = st._apply(st.q) if d is None else ref[1] + st._apply(d, single=True)
             st.n_apply += 1
