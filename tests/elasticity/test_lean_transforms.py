@@ -116,3 +116,21 @@ def test_transforms_into_work_arrays_are_bitwise_scipy(dtype):
     assert np.array_equal(T, scipy.fft.rfft2(a))
     u = be.irfft2_into(T, (30, 22), np.full((30, 22), np.nan, dtype=dtype))
     assert np.array_equal(u, scipy.fft.irfft2(T, s=(30, 22)))
+
+
+@pytest.mark.parametrize("engine", ["pyfftw", "mkl_fft"])
+def test_every_engine_takes_the_lean_transforms(engine):
+    """With an optional engine selected (installed or not: the lean transforms never call it) the
+    zero-padded, box and blocked transforms are pocketfft's, the same numbers to the last bit as
+    with the scipy engine: the engines' whole-array transforms with their copies were slower on
+    the free boundary (the adhesive loop of benchmarks/adhesive_loop.py took 59 s of CPU with
+    pyFFTW against 46 s) and put a multistable adhesive unloading on another branch."""
+    be, ref = Backend("numpy", fft=engine, workers=1), Backend("numpy", fft="scipy", workers=1)
+    assert be._lean() and be.single_precision and be.blocked((4096, 4096))
+    rng = np.random.default_rng(11)
+    a = rng.normal(size=(20, 13))
+    T = be.rfft2_padded(a, (40, 26))
+    assert np.array_equal(T, ref.rfft2_padded(a, (40, 26)))
+    assert np.array_equal(be.irfft2_rows(T.copy(), (40, 26), 20), ref.irfft2_rows(T.copy(), (40, 26), 20))
+    box = np.empty((20, 7), dtype=complex)
+    assert np.array_equal(be.rfft2_into(a, box), scipy.fft.rfft2(a))

@@ -15,10 +15,15 @@ FFT engines on the CPU (``Backend.fft``; env ``TRIBOBEM_FFT`` = ``auto`` (defaul
 convolution, measured by ``benchmarks/fft_backends.py`` (numbers in benchmarks/README.md).  All
 engines agree to 1e-15 relative.
 
-Zero-padded transforms (free boundary): :meth:`Backend.rfft2_padded` and
-:meth:`Backend.irfft2_rows` skip the padding rows in the real passes and write into reused
-arrays (scipy.fft only, through pocketfft's ``out`` argument; the other engines do the full
-transforms).  Threads: transforms of at most ``SMALL_FFT`` points run on one thread (two threads
+The engine does the whole-array transforms (:meth:`Backend.rfft2` / :meth:`Backend.irfft2`:
+the periodic operator, NormCG's preconditioner).  The lean transforms -- zero-padded ones (free
+boundary: :meth:`Backend.rfft2_padded` and :meth:`Backend.irfft2_rows` skip the padding rows in
+the real passes) and the preconditioners' box transforms (:meth:`Backend.rfft2_into`) -- write
+into reused arrays through pocketfft's ``out`` argument, with every engine: they beat the other
+engines' whole-array transforms with their copies (a 512^2 free-boundary convolution 7.6 ms
+against pyFFTW's 10.3 ms, 2048^2 135 against 203 ms; the adhesive loop of
+benchmarks/adhesive_loop.py 46 against 59 s of CPU), and they keep every engine's free-boundary
+results the same to the last bit.  Threads: transforms of at most ``SMALL_FFT`` points run on one thread (two threads
 cost more CPU there and, between the NumPy work of a solver, more wall time).
 """
 
@@ -299,12 +304,12 @@ class Backend:
 
         return cfft.irfft2(a, s=s)
 
-    # -- transforms into work arrays (scipy.fft) --------------------------------------
+    # -- transforms into work arrays (pocketfft, every engine) -----------------------
 
     def rfft2_into(self, a, out):
         """:meth:`rfft2` of ``a`` (not padded) written into ``out``: the pocketfft call of
         ``scipy.fft.rfft2``, so the same numbers to the last bit, without a fresh spectrum per
-        call (the preconditioners run at every step of their CG).  scipy.fft engine only
+        call (the preconditioners run at every step of their CG).  Lean transforms only
         (:meth:`_lean`).
 
         Parameters
@@ -324,7 +329,7 @@ class Backend:
 
     def irfft2_into(self, A, s, out):
         """:meth:`irfft2` of ``A`` on the grid ``s`` written into ``out`` (``A`` is kept): the
-        pocketfft call of ``scipy.fft.irfft2``, the same numbers to the last bit.  scipy.fft engine
+        pocketfft call of ``scipy.fft.irfft2``, the same numbers to the last bit.  Lean transforms
         only (:meth:`_lean`).
 
         Parameters
@@ -349,11 +354,11 @@ class Backend:
     def rfft2_padded(self, a, s, out=None, single: bool = False):
         """:meth:`rfft2` of ``a`` (m1 x m2) zero-padded to ``s`` (N1 x N2, N >= m).
 
-        With scipy.fft: the real FFT along y of the m1 rows only (the N1 - m1 padding rows
-        transform to zero), then the complex FFT along x in place; written into ``out``
-        (complex, N1 x (N2/2 + 1)) when given, through pocketfft's ``out`` argument (no fresh
-        multi-MB array per call: their page faults cost a sizeable part of a transform, figures in
-        benchmarks/README.md).  Other engines and backends: :meth:`rfft2`.
+        Lean (:meth:`_lean`, every engine of the NumPy backend): the real FFT along y of the m1
+        rows only (the N1 - m1 padding rows transform to zero), then the complex FFT along x in
+        place; written into ``out`` (complex, N1 x (N2/2 + 1)) when given, through pocketfft's
+        ``out`` argument (no fresh multi-MB array per call: their page faults cost a sizeable part
+        of a transform, figures in benchmarks/README.md).  Other backends (CuPy): :meth:`rfft2`.
 
         Parameters
         ----------
@@ -362,7 +367,7 @@ class Backend:
         s : tuple of int
             Padded transform grid (N1, N2), N1 >= m1, N2 >= m2.
         out : ndarray, optional
-            Complex work array of shape (N1, N2 // 2 + 1) to write into (scipy.fft path only;
+            Complex work array of shape (N1, N2 // 2 + 1) to write into (lean path only;
             complex64 in single precision).
         single : bool
             Transform in single precision (complex64; :attr:`single_precision` backends only,
@@ -371,7 +376,7 @@ class Backend:
         Returns
         -------
         array
-            The complex spectrum (N1, N2 // 2 + 1): ``out`` when given on the scipy.fft path,
+            The complex spectrum (N1, N2 // 2 + 1): ``out`` when given on the lean path,
             else a new array.
         """
         if not self._lean():
@@ -398,25 +403,25 @@ class Backend:
     def irfft2_rows(self, A, s, rows: int, out=None):
         """The first ``rows`` rows of :meth:`irfft2` (``A`` on the grid ``s``), all N2 columns.
 
-        With scipy.fft ``A`` is overwritten (the inverse FFT along x in place), then the real
+        Lean: ``A`` is overwritten (the inverse FFT along x in place), then the real
         inverse FFT along y of the kept rows only (into ``out``, real rows x N2, when given).
-        Other engines and backends: :meth:`irfft2` (``A`` kept) and a slice.
+        Other backends (CuPy): :meth:`irfft2` (``A`` kept) and a slice.
 
         Parameters
         ----------
         A : array
-            Complex spectrum of shape (N1, N2 // 2 + 1); overwritten on the scipy.fft path.
+            Complex spectrum of shape (N1, N2 // 2 + 1); overwritten on the lean path.
         s : tuple of int
             The real grid (N1, N2).
         rows : int
             Number of leading rows to return (the unpadded m1: the padding rows are never needed).
         out : ndarray, optional
-            Real work array of shape (rows, N2) to write into (scipy.fft path only).
+            Real work array of shape (rows, N2) to write into (lean path only).
 
         Returns
         -------
         array
-            Real array of shape (rows, N2): ``out`` when given on the scipy.fft path, else new
+            Real array of shape (rows, N2): ``out`` when given on the lean path, else new
             (on the other paths a slice of the full inverse).
         """
         if not self._lean():
@@ -435,7 +440,7 @@ class Backend:
         along y on blocks of rows, so that the only full-size work array is the m1 x (N2/2 + 1)
         half-spectrum of the unpadded rows (about 2 grid fields) instead of the N1 x (N2/2 + 1)
         padded spectrum and the m1 x N2 rows (about 6).  Every 1-D transform is the one of the
-        unblocked path, so the result is the same to the last bit (tested).  scipy.fft only
+        unblocked path, so the result is the same to the last bit (tested).  Lean transforms only
         (``_lean``).
 
         Parameters
@@ -498,13 +503,13 @@ class Backend:
 
     def blocked(self, s) -> bool:
         """Whether free-boundary convolutions on the padded grid ``s`` run in blocks
-        (:meth:`convolve_padded_blocked`): scipy.fft, and a padded grid of at least
+        (:meth:`convolve_padded_blocked`): lean transforms, and a padded grid of at least
         ``BLOCKED_FFT_POINTS`` points (env ``TRIBOBEM_BLOCKED_FFT_POINTS``)."""
         return self._lean() and int(s[0]) * int(s[1]) >= blocked_fft_points()
 
     def rows_buffer(self, m1: int, m2: int, N2: int, dtype=np.float64):
         """The (per-thread) m1 x N2 real work array of :meth:`rfft2_padded`, lent as the ``out`` of
-        :meth:`irfft2_rows` (scipy.fft path): no fresh m1 x N2 array per inverse transform.  Its
+        :meth:`irfft2_rows` (lean path): no fresh m1 x N2 array per inverse transform.  Its
         contents are valid until the next transform on this thread; the next forward transform
         clears the padding columns it overwrote.
 
@@ -526,19 +531,21 @@ class Backend:
         return row
 
     def _lean(self) -> bool:
-        return self.name == "numpy" and self.fft == "scipy" and _pocketfft is not None
+        """Whether the lean (pocketfft, work-array) transforms run: the NumPy backend, with any
+        engine (module docstring), where this scipy has pocketfft's ``out`` calls."""
+        return self.name == "numpy" and _pocketfft is not None
 
     @property
     def single_precision(self) -> bool:
         """Whether transforms of float32 input run in single precision.
 
-        The scipy.fft engine of the NumPy backend (pocketfft) transforms float32 arrays in
-        single precision: about 1.7x faster than double for the row-skipping padded transforms
+        The lean transforms of the NumPy backend (pocketfft, every engine) transform float32
+        arrays in single precision: about 1.7x faster than double for the row-skipping padded transforms
         of a 188^2 box (375^2), about 3x for whole 2-D real transforms of that size
         (benchmarks/README.md, the adhesive loop's single precision in TangCG).  The tangential
         solver uses it where an error of ~1e-7 relative to the transformed field is harmless:
         the images of its search directions and its preconditioner (the residual is taken from
-        a double-precision K q).  Other engines and CuPy: False (double precision throughout).
+        a double-precision K q).  CuPy: False (double precision throughout).
         """
         return self._lean()
 

@@ -32,7 +32,8 @@ def convolve(op, traction, out=None, spectrum=None):
     inverse FFT along y (of the nx rows kept, for the zero-padded free-boundary operator),
     instead of ``irfft2``, which copies the spectrum first: the same arithmetic (equal
     results, tested), less CPU time than ``op.apply`` (figures in benchmarks/README.md) and one
-    complex half-spectrum less at the peak.  Other engines and backends: ``op.apply``.
+    complex half-spectrum less at the peak.  Other engines and backends: ``op.apply`` (which runs
+    the zero-padded operator's lean transforms with every engine of the NumPy backend).
 
     ``out`` (real, ``grid.shape``) and ``spectrum`` (complex, the rfft2 shape), periodic
     operator only: work buffers reused across calls.  Each transform then writes into them

@@ -373,6 +373,12 @@ class StrictBackend(Backend):
     """The NumPy backend's arithmetic and FFTs behind CuPy's host/device rules (module
     docstring).  ``name`` is ``"strict"``: the code paths are the non-NumPy (CuPy) ones.
 
+    Its FFTs are pocketfft's (``scipy.fft``) whatever the engine: the transforms of the NumPy
+    backend's lean paths (free boundary, preconditioner boxes) with every engine, and of its
+    whole-array ones with the ``scipy`` engine, so that its free-boundary results stay those of
+    the NumPy backend to round-off with pyFFTW installed too (a multistable adhesive unloading
+    follows the round-off of its FFTs).
+
     Attributes
     ----------
     name : str
@@ -388,7 +394,7 @@ class StrictBackend(Backend):
         return strict_namespace()
 
     def rfft2(self, a, s=None):
-        """:meth:`Backend.rfft2` of a device array, by the NumPy backend's engine.
+        """:meth:`Backend.rfft2` of a device array, by pocketfft (``scipy.fft``).
 
         Parameters
         ----------
@@ -409,10 +415,10 @@ class StrictBackend(Backend):
         """
         if not isinstance(a, DeviceArray):
             raise _unsupported(a, "rfft2")
-        return DeviceArray(_host_backend(self.fft).rfft2(a._a, s=s))
+        return DeviceArray(_host_backend("scipy").rfft2(a._a, s=s))
 
     def irfft2(self, a, s):
-        """:meth:`Backend.irfft2` of a device array, by the NumPy backend's engine.
+        """:meth:`Backend.irfft2` of a device array, by pocketfft (``scipy.fft``).
 
         Parameters
         ----------
@@ -433,7 +439,7 @@ class StrictBackend(Backend):
         """
         if not isinstance(a, DeviceArray):
             raise _unsupported(a, "irfft2")
-        return DeviceArray(_host_backend(self.fft).irfft2(a._a, s=s))
+        return DeviceArray(_host_backend("scipy").irfft2(a._a, s=s))
 
 
 @lru_cache(maxsize=None)

@@ -110,7 +110,7 @@ class TangentialOperator:
         return acc
 
     def _combine_padded(self, outs, ins, fields, spectra, fft_shape, single=False, scratch=False) -> list:
-        """``_combine`` for zero-padded (free-boundary or box) transforms with scipy.fft: the
+        """``_combine`` for zero-padded (free-boundary or box) transforms, lean (pocketfft, every engine): the
         transforms of :meth:`Backend.rfft2_padded` and :meth:`Backend.irfft2_rows` (the padding
         rows skipped, no fresh spectra: every array reused), results m1 x m2 as the inputs
         (float32 with ``single``: single-precision transforms and spectra; ``scratch``: in reused
@@ -277,7 +277,7 @@ class TangentialOperator:
         return be.irfft2(Zx, s=box), be.irfft2(Zy, s=box)
 
     def _precondition_lean(self, rx, ry, box, spec):
-        """:meth:`precondition` with scipy.fft: the same transforms (:meth:`Backend.rfft2_into`,
+        """:meth:`precondition` lean (pocketfft, every engine): the same transforms (:meth:`Backend.rfft2_into`,
         :meth:`Backend.irfft2_into`: the same numbers) into reused spectra and fields instead of
         six fresh arrays per call (the preconditioner runs at every TangCG step).  The fields
         returned are work arrays, valid until the next call."""

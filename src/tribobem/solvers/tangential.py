@@ -102,7 +102,7 @@ DEFAULT_PRECONDITIONER = "fft"
 #: Free boundary: apply K_tt on the contact's bounding box (exact; see ``_Tangential._apply``).
 USE_BOX = True
 #: TangCG's images K v of its search directions and its FFT preconditioner in single precision
-#: where the backend supports it (``Backend.single_precision``: free boundary, scipy.fft).  Their
+#: where the backend supports it (``Backend.single_precision``: free boundary, the NumPy backend).  Their
 #: error, ~1e-7 of the step, does not reach the solution or the convergence test: every check of
 #: the element division recomputes K q exactly in double precision and measures the residual
 #: from it (``_TangCG._exact``).
