@@ -16,15 +16,15 @@ convolution, measured by ``benchmarks/fft_backends.py`` (numbers in benchmarks/R
 engines agree to 1e-15 relative.
 
 The engine does the whole-array transforms (:meth:`Backend.rfft2` / :meth:`Backend.irfft2`:
-the periodic operator, NormCG's preconditioner).  The lean transforms -- zero-padded ones (free
+the periodic operators and the kernel spectra).  The lean transforms -- zero-padded ones (free
 boundary: :meth:`Backend.rfft2_padded` and :meth:`Backend.irfft2_rows` skip the padding rows in
 the real passes) and the preconditioners' box transforms (:meth:`Backend.rfft2_into`) -- write
 into reused arrays through pocketfft's ``out`` argument, with every engine: they beat the other
 engines' whole-array transforms with their copies (a 512^2 free-boundary convolution 7.6 ms
 against pyFFTW's 10.3 ms, 2048^2 135 against 203 ms; the adhesive loop of
-benchmarks/adhesive_loop.py 46 against 59 s of CPU), and they keep every engine's free-boundary
-results the same to the last bit.  Threads: transforms of at most ``SMALL_FFT`` points run on one thread (two threads
-cost more CPU there and, between the NumPy work of a solver, more wall time).
+benchmarks/adhesive_loop.py 46 against 59 s of CPU).
+Threads: transforms of at most ``SMALL_FFT`` points run on one thread (two threads cost more CPU
+there and, between the NumPy work of a solver, more wall time).
 """
 
 from __future__ import annotations
