@@ -692,7 +692,7 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
                                               f"{st.get('rms_slope', float('nan')):.3g}"))
     solver = [f"normal solver {prob['normal_method']}"] if prob.get("normal_method") else []
     if prob.get("backend"):
-        solver.append(f"backend {prob['backend']}")
+        solver.append(f"backend {prob['backend']}" + (f", FFT engine {prob['fft']}" if prob.get("fft") else ""))
     if solver:  # what [solver] method = "auto" and backend stood for
         rows.append(("solver", "; ".join(solver)))
     t = s.get("timings", {})

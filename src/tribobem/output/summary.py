@@ -39,9 +39,9 @@ def versions() -> dict:
     Returns
     -------
     dict
-        Library name -> version string; xarray, matplotlib and SurfaceTopography only where
-        they are installed (the version of the module the run imported, else the installed
-        distribution's).
+        Library name -> version string; pyfftw and mkl_fft where the run imported them (the FFT
+        engine); xarray, matplotlib and SurfaceTopography only where they are installed (the
+        version of the module the run imported, else the installed distribution's).
     """
     from importlib.metadata import version
 
@@ -53,6 +53,10 @@ def versions() -> dict:
         tb = __version__
     out = {"tribobem": tb, "numpy": np.__version__, "scipy": scipy.__version__,
            "python": platform.python_version()}
+    for mod in ("pyfftw", "mkl_fft"):  # an optional FFT engine, where the run used it
+        m = sys.modules.get(mod)
+        if m is not None:
+            out[mod] = getattr(m, "__version__", "")
     for mod in ("xarray", "matplotlib", "SurfaceTopography"):
         # the imported module's version where the run imported it, else the installed
         # distribution's (read from its metadata: importing SurfaceTopography and matplotlib only
