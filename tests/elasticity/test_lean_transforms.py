@@ -124,7 +124,7 @@ def test_every_engine_takes_the_lean_transforms(engine):
     zero-padded, box and blocked transforms are pocketfft's, the same numbers to the last bit as
     with the scipy engine: the engines' whole-array transforms with their copies were slower on
     the free boundary (the adhesive loop of benchmarks/adhesive_loop.py took 59 s of CPU with
-    pyFFTW against 46 s) and put a multistable adhesive unloading on another branch."""
+    pyFFTW against 46 s)."""
     be, ref = Backend("numpy", fft=engine, workers=1), Backend("numpy", fft="scipy", workers=1)
     assert be._lean() and be.single_precision and be.blocked((4096, 4096))
     rng = np.random.default_rng(11)

@@ -373,11 +373,12 @@ class StrictBackend(Backend):
     """The NumPy backend's arithmetic and FFTs behind CuPy's host/device rules (module
     docstring).  ``name`` is ``"strict"``: the code paths are the non-NumPy (CuPy) ones.
 
-    Its FFTs are pocketfft's (``scipy.fft``) whatever the engine: the transforms of the NumPy
-    backend's lean paths (free boundary, preconditioner boxes) with every engine, and of its
-    whole-array ones with the ``scipy`` engine, so that its free-boundary results stay those of
-    the NumPy backend to round-off with pyFFTW installed too (a multistable adhesive unloading
-    follows the round-off of its FFTs).
+    Its FFTs are pocketfft's (``scipy.fft``) whatever the engine: those of the NumPy backend's
+    lean paths (free boundary, preconditioner boxes) with every engine, and of its whole-array
+    ones (kernel spectra, periodic operators) with the ``scipy`` engine.  Its results equal a
+    NumPy backend's on the ``scipy`` engine to round-off, as tests/test_device_clean.py checks; on
+    another engine the kernel spectra differ by round-off, which a multistable adhesive contact
+    can carry to another branch.
 
     Attributes
     ----------
