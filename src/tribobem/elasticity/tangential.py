@@ -110,10 +110,10 @@ class TangentialOperator:
         return acc
 
     def _combine_padded(self, outs, ins, fields, spectra, fft_shape, single=False, scratch=False) -> list:
-        """``_combine`` for zero-padded (free-boundary or box) transforms, lean (pocketfft, every engine): the
-        transforms of :meth:`Backend.rfft2_padded` and :meth:`Backend.irfft2_rows` (the padding
-        rows skipped, no fresh spectra: every array reused), results m1 x m2 as the inputs
-        (float32 with ``single``: single-precision transforms and spectra; ``scratch``: in reused
+        """``_combine`` for zero-padded (free-boundary or box) transforms, lean (pocketfft, every
+        engine): the transforms of :meth:`Backend.rfft2_padded` and :meth:`Backend.irfft2_rows`
+        (the padding rows skipped, no fresh spectra: every array reused), results m1 x m2 as the
+        inputs (float32 with ``single``: single-precision transforms and spectra; ``scratch``: in reused
         work arrays, valid until the next call)."""
         be = self.be
         m1, m2 = next(f for f in fields if f is not None).shape
@@ -277,10 +277,10 @@ class TangentialOperator:
         return be.irfft2(Zx, s=box), be.irfft2(Zy, s=box)
 
     def _precondition_lean(self, rx, ry, box, spec):
-        """:meth:`precondition` lean (pocketfft, every engine): the same transforms (:meth:`Backend.rfft2_into`,
-        :meth:`Backend.irfft2_into`: the same numbers) into reused spectra and fields instead of
-        six fresh arrays per call (the preconditioner runs at every TangCG step).  The fields
-        returned are work arrays, valid until the next call."""
+        """:meth:`precondition`, lean (pocketfft, every engine): the same transforms
+        (:meth:`Backend.rfft2_into`, :meth:`Backend.irfft2_into`: the same numbers) into reused
+        spectra and fields instead of six fresh arrays per call (the preconditioner runs at every
+        TangCG step).  The fields returned are work arrays, valid until the next call."""
         be, xp = self.be, self.xp
         single = rx.dtype == np.float32
         ctype = np.complex64 if single else complex

@@ -34,7 +34,7 @@ from ..materials import ContactPair, Material
 from .schema import BodySpec, Scenario
 from .. import geometry as geo
 from ..data import DATA_PREFIX, topography_path
-from ..elasticity.backend import default_fft, default_workers
+from ..elasticity.backend import default_workers
 from ..elasticity.operators import make_operator
 from ..geometry import stats as geostats, read_topography, unit_to_metres, Topography
 from ..interactions import DugdaleAdhesion
@@ -542,20 +542,14 @@ CUPY_MIN_NODES = 1024 * 1024
 
 def _backend_for(requested: str, grid: Grid, info: dict) -> str:
     """The array backend a scenario runs on: NumPy for ``cupy`` below ``CUPY_MIN_NODES`` nodes
-    (said in ``info["backend"]``), else the requested one.  On NumPy ``info["fft"]`` names the FFT
-    engine of its whole-array transforms (env ``TRIBOBEM_FFT``, elasticity/backend.py): runs on
-    different engines differ by round-off, which a multistable adhesive contact can carry to
-    another branch."""
+    (said in ``info["backend"]``), else the requested one."""
     env = os.environ.get("TRIBOBEM_CUPY_MIN_NODES")
     limit = int(env) if env else CUPY_MIN_NODES
     if requested == "cupy" and grid.nx * grid.ny < limit:
         info["backend"] = (f"numpy (cupy requested; grids below {limit} nodes run on NumPy, which is faster "
                            f"there than a GPU; TRIBOBEM_CUPY_MIN_NODES=0 forces cupy)")
-        info["fft"] = default_fft()
         return "numpy"
     info["backend"] = requested
-    if requested == "numpy":
-        info["fft"] = default_fft()
     return requested
 
 
@@ -626,6 +620,11 @@ def _build_problem(scenario: Scenario, base_dir) -> Problem:
             op = make_operator(grid, pair, components, backend=backend)
     except (ImportError, ModuleNotFoundError) as exc:
         raise InputError("solver.backend", f"backend {backend!r} is not available: {exc}") from None
+    if op is not None and op.backend.name == "numpy":
+        # the FFT engine of the operator's whole-array transforms (elasticity/backend.py): runs on
+        # different engines differ by round-off, which a multistable adhesive contact can carry
+        # to another branch
+        info["fft"] = op.backend.fft
 
     interaction = None
     if sc.adhesion.enabled:
