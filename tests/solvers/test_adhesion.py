@@ -361,6 +361,47 @@ def test_solve_at_force_reaches_the_force_controlled_state(md_small):
         dugdale_conditions(via, prob)
 
 
+def test_solve_at_force_falls_back_on_normcg(md_small, monkeypatch):
+    """Where Polonsky-Keer fails on a step of the path, warm-started and cold (as on the
+    lambda = 5 sphere on 1248^2, where it stalls on an unloading step towards F = 0),
+    solve_at_force completes the step with NormCG from the same warm start.  Polonsky-Keer is
+    made to fail here on every solve but the first touch; the path then runs on NormCG alone
+    and must meet the bars of the Polonsky-Keer path above (a within 3% of Maugis-Dugdale, the
+    approach within 5% of the unit, the Dugdale conditions) and count its fallbacks."""
+    import tribobem.solvers.paths as paths
+
+    real = paths._solve_quiet
+    pk_failed = []
+
+    def failing_pk(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
+        if method == "polonsky_keer" and (initial is not None or load.get("approach", 0.0) > 0):
+            pk_failed.append(load)
+            return real(operator, gap, interaction, tol, 2, initial, method=method, **load)  # 2 iterations: unconverged
+        return real(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
+
+    monkeypatch.setattr(paths, "_solve_quiet", failing_pk)
+    prob = md_small
+    for F in (prob.F_scale, 0.0):
+        res = paths.solve_at_force(prob.operator, prob.gap, F, interaction=prob.adhesion, tol=1e-10, rtol=1e-3)
+        assert res.converged
+        assert res.info["normcg_fallbacks"] >= 2 and len(pk_failed) >= 2 * res.info["normcg_fallbacks"]
+        assert abs(res.force - F) <= 1e-3 * res.info["force_scale"]
+        ref = prob.reference(force=F)
+        assert res.contact_radius() == pytest.approx(ref.contact_radius, rel=0.03)
+        assert abs(res.approach - ref.approach) < 0.05 * max(abs(ref.approach), prob.d_scale)
+        dugdale_conditions(res, prob)
+        pk_failed.clear()
+
+
+def test_solve_at_force_without_fallback_keeps_polonsky_keer(md_small):
+    """The fallback only acts where Polonsky-Keer fails: on the 64^2 sphere no step needs it."""
+    from tribobem.solvers.paths import solve_at_force
+
+    prob = md_small
+    res = solve_at_force(prob.operator, prob.gap, 0.0, interaction=prob.adhesion, tol=1e-10, rtol=1e-3)
+    assert res.converged and res.info["normcg_fallbacks"] == 0
+
+
 def test_solve_at_force_beyond_pull_off_is_an_input_error(md_small):
     from tribobem.errors import InputError
     from tribobem.solvers.paths import solve_at_force

@@ -410,11 +410,11 @@ class PullOff:
         return float(self.preload_state.force) if self.preload_state is not None else math.nan
 
 
-def _solve_quiet(operator, gap, interaction, tol, max_iterations, initial, **load):
+def _solve_quiet(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         return solve_normal(operator, gap, interaction=interaction, tol=tol,
-                            max_iterations=max_iterations, initial_pressure=initial, **load)
+                            max_iterations=max_iterations, initial_pressure=initial, method=method, **load)
 
 
 def _separated(res: NormalResult) -> bool:
@@ -451,7 +451,14 @@ def solve_at_force(
       contact (``info["full_contact"]`` is True when the target lies beyond it);
     * for stiff Dugdale laws on fine grids the cold force-controlled Polonsky-Keer iteration
       can stall (Maugis lambda = 5, 1248^2: 'no progress in 2000 iterations' at
-      F = pi R dgamma) while every displacement-controlled solve along the loading converges.
+      F = pi R dgamma).
+
+    Each step is a Polonsky-Keer solve warm-started from the last state; if it fails, a cold
+    one at a compressive approach, and if that fails too, NormCG from the same warm start
+    (``info["normcg_fallbacks"]`` counts the steps it completed).  Polonsky-Keer restarts its
+    CG at every change of the contact set, and with a stiff step law on a fine grid the ring of
+    edge nodes can change at every iteration (lambda = 5 on 1248^2: steps of the loading and of
+    the unloading towards F = 0 stall); NormCG keeps its directions across such changes.
 
     Parameters
     ----------
@@ -476,7 +483,8 @@ def solve_at_force(
     -------
     NormalResult
         Displacement-controlled (``control == "displacement"``); ``info`` gains ``"target_force"``,
-        ``"force_scale"`` (what ``rtol`` is relative to), ``"solves"`` and ``"full_contact"``.
+        ``"force_scale"`` (what ``rtol`` is relative to), ``"solves"``, ``"full_contact"`` and
+        ``"normcg_fallbacks"``.
 
     Raises
     ------
@@ -502,27 +510,46 @@ def solve_at_force(
     scale = abs(force)
 
     cold_up = False  # set once a warm-started loading step has failed where a cold one converged
+    fallbacks = 0  # solves that only NormCG completed
+    cold_failed = set()  # approaches (m) where a cold solve did not converge
 
     def solve(d, warm):
-        nonlocal solves, cold_up
+        nonlocal solves, cold_up, fallbacks
         loading = warm is not None and d > warm.approach
         res = _solve_quiet(operator, h, interaction, tol, max_iterations, None if (cold_up and loading) else warm,
                            approach=float(d))
         solves += 1
-        if not res.converged and warm is not None and not (cold_up and loading) and d > 0:
+        if not res.converged and warm is not None and not (cold_up and loading) and d > 0 and d not in cold_failed:
             # A warm start from a smaller contact can stall where a cold solve at a compressive
             # approach converges (Maugis lambda = 5 on 1248^2: 2500-4500 iterations warm, 1500
-            # cold); a cold start at a positive approach lands on the contact branch.
+            # cold); a cold start at a positive approach lands on the contact branch.  A cold
+            # solve is the same at the same approach: one that failed is not tried again.
             cold = _solve_quiet(operator, h, interaction, tol, max_iterations, None, approach=float(d))
             solves += 1
             if cold.converged:
                 res, cold_up = cold, cold_up or loading
+            else:
+                cold_failed.add(d)
+        if not res.converged and warm is not None:
+            # Last resort, after Polonsky-Keer failed warm (and cold): NormCG from the same warm
+            # start.  Polonsky-Keer restarts its CG at every change of the contact set; with a
+            # stiff step law on a fine grid the ring of edge nodes can change at every iteration
+            # and the iteration stalls (Maugis lambda = 5 on 1248^2: unloading towards F = 0, and
+            # a warm loading step, 'no progress in 2000 iterations').  NormCG keeps its
+            # conjugate directions across the changes (187 iterations on that loading step).
+            # Only here, so that every path Polonsky-Keer completes keeps its equilibria.
+            cg = _solve_quiet(operator, h, interaction, tol, max_iterations, warm, method="normcg", approach=float(d))
+            solves += 1
+            if cg.converged:
+                res = cg
+                fallbacks += 1
         if progress:
             progress(solves, max_solves)
         return res
 
     def done(res, full=False):
-        res.info = dict(res.info or {}, target_force=force, force_scale=scale, solves=solves, full_contact=bool(full))
+        res.info = dict(res.info or {}, target_force=force, force_scale=scale, solves=solves, full_contact=bool(full),
+                        normcg_fallbacks=fallbacks)
         return res
 
     if start is not None:
