@@ -398,6 +398,35 @@ def test_solve_at_force_falls_back_on_normcg(md_small, monkeypatch):
         pk_failed.clear()
 
 
+def test_pull_off_says_when_the_preload_needed_normcg(md_small, monkeypatch):
+    """A pull-off whose loading to the preload needed the NormCG fallback says so in its notes
+    (the run's warnings): its start may be another discrete equilibrium than Polonsky-Keer's."""
+    import tribobem.solvers.paths as paths
+
+    real_quiet, real_saf = paths._solve_quiet, paths.solve_at_force
+    loading = []
+
+    def failing_pk(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
+        if loading and method == "polonsky_keer" and (initial is not None or load.get("approach", 0.0) > 0):
+            max_iterations = 2  # unconverged
+        return real_quiet(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
+
+    def saf(*args, **kw):
+        loading.append(True)
+        try:
+            return real_saf(*args, **kw)
+        finally:
+            loading.clear()
+
+    monkeypatch.setattr(paths, "_solve_quiet", failing_pk)
+    monkeypatch.setattr(paths, "solve_at_force", saf)
+    prob = md_small
+    po = paths.pull_off(prob.operator, prob.gap, prob.adhesion, preload=prob.F_scale, tol=1e-9)
+    assert po.preload_state.info["normcg_fallbacks"] >= 1
+    assert any("needed NormCG" in n for n in po.notes)
+    assert po.force == pytest.approx(prob.F_pull_off, rel=0.08)  # the 64^2 bar of test_pull_off_from_zero_external_load
+
+
 def test_solve_at_force_without_fallback_keeps_polonsky_keer(md_small):
     """The fallback only acts where Polonsky-Keer fails: on the 64^2 sphere no step needs it."""
     from tribobem.solvers.paths import solve_at_force

@@ -752,6 +752,11 @@ def pull_off(
             # force of one cell at the floor): say so, not only in a warning
             notes.append(f"preload: the loading reached {state0.force:.4g} N, not {target:.4g} N (no converged "
                          f"state within 0.1 % of it on the force-approach curve); the unloading starts there")
+        if state0.info.get("normcg_fallbacks"):
+            # the path mixes two solvers of a multistable problem: say so
+            notes.append(f"preload: the loading needed NormCG on {state0.info['normcg_fallbacks']} step(s) where "
+                         "Polonsky-Keer did not converge; the preload state may be another of the discrete Dugdale "
+                         "equilibria than Polonsky-Keer's (compare on a finer grid)")
     start = state0
     total = (n_steps if control == "force" else max_steps) + 2 * refine
     rows, store = [], []
