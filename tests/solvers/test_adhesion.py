@@ -22,6 +22,7 @@ the same checks); the references in :mod:`tribobem.analytic`.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
@@ -367,9 +368,9 @@ def test_solve_at_force_reaches_the_force_controlled_state(md_small):
 
 
 def test_solve_at_force_falls_back_on_normcg(md_small, monkeypatch):
-    """Where Polonsky-Keer fails on a step of the path, warm-started and cold (as on the
-    lambda = 5 sphere on 1248^2, where it stalls on an unloading step towards F = 0),
-    solve_at_force completes the step with NormCG from the same warm start.  Polonsky-Keer is
+    """Where Polonsky-Keer fails on a step of the path, warm-started, cold and on every shorter
+    step (as on the lambda = 5 sphere on 1248^2, where it stalls on an unloading step towards
+    F = 0), solve_at_force completes the step with NormCG from the same warm start.  Polonsky-Keer is
     made to fail here on every solve but the first touch; the path then runs on NormCG alone
     and must meet the bars of the Polonsky-Keer path above (a within 3% of Maugis-Dugdale, the
     approach within 5% of the unit, the Dugdale conditions) and count its fallbacks."""
@@ -379,15 +380,18 @@ def test_solve_at_force_falls_back_on_normcg(md_small, monkeypatch):
     pk_failed = []
 
     def failing_pk(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
+        res = real(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
         if method == "polonsky_keer" and (initial is not None or load.get("approach", 0.0) > 0):
             pk_failed.append(load)
-            return real(operator, gap, interaction, tol, 2, initial, method=method, **load)  # 2 iterations: unconverged
-        return real(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
+            return dataclasses.replace(res, converged=False, message="stalled (made to fail by the test)")
+        return res
 
     monkeypatch.setattr(paths, "_solve_quiet", failing_pk)
     prob = md_small
     for F in (prob.F_scale, 0.0):
-        res = paths.solve_at_force(prob.operator, prob.gap, F, interaction=prob.adhesion, tol=1e-10, rtol=1e-3)
+        # every step first runs its failing Polonsky-Keer solves, then the halved steps: many solves
+        res = paths.solve_at_force(prob.operator, prob.gap, F, interaction=prob.adhesion, tol=1e-10, rtol=1e-3,
+                                   max_solves=1000)
         assert res.converged
         assert res.info["normcg_fallbacks"] >= 2 and len(pk_failed) >= 2 * res.info["normcg_fallbacks"]
         assert abs(res.force - F) <= 1e-3 * res.info["force_scale"]
@@ -407,12 +411,15 @@ def test_pull_off_says_when_the_preload_needed_normcg(md_small, monkeypatch):
     loading = []
 
     def failing_pk(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
+        res = real_quiet(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
+        if method == "normcg":
+            loading.clear()  # one stiff step: Polonsky-Keer carries the rest of the path
         if loading and method == "polonsky_keer" and (initial is not None or load.get("approach", 0.0) > 0):
-            max_iterations = 2  # unconverged
-        return real_quiet(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
+            return dataclasses.replace(res, converged=False, message="stalled (made to fail by the test)")
+        return res
 
     def saf(*args, **kw):
-        loading.append(True)
+        loading.append(True)  # Polonsky-Keer fails within solve_at_force until NormCG has run once
         try:
             return real_saf(*args, **kw)
         finally:
@@ -422,18 +429,39 @@ def test_pull_off_says_when_the_preload_needed_normcg(md_small, monkeypatch):
     monkeypatch.setattr(paths, "solve_at_force", saf)
     prob = md_small
     po = paths.pull_off(prob.operator, prob.gap, prob.adhesion, preload=prob.F_scale, tol=1e-9)
-    assert po.preload_state.info["normcg_fallbacks"] >= 1
-    assert any("needed NormCG" in n for n in po.notes)
+    assert po.preload_state.info["normcg_fallbacks"] == 1
+    assert any("needed NormCG on 1 step" in n for n in po.notes)
+    assert abs(po.preload_state.force - prob.F_scale) <= 1e-3 * prob.F_scale
     assert po.force == pytest.approx(prob.F_pull_off, rel=0.08)  # the 64^2 bar of test_pull_off_from_zero_external_load
 
 
-def test_solve_at_force_without_fallback_keeps_polonsky_keer(md_small):
-    """The fallback only acts where Polonsky-Keer fails: on the 64^2 sphere no step needs it."""
-    from tribobem.solvers.paths import solve_at_force
+def test_solve_at_force_without_fallback_keeps_polonsky_keer(md_small, monkeypatch):
+    """The fallback only acts where the path would end: on the 64^2 sphere no step needs it,
+    and where Polonsky-Keer fails a long step warm and cold but completes it shortened, the
+    shortened steps carry the path (no NormCG)."""
+    import tribobem.solvers.paths as paths
 
     prob = md_small
-    res = solve_at_force(prob.operator, prob.gap, 0.0, interaction=prob.adhesion, tol=1e-10, rtol=1e-3)
+    res = paths.solve_at_force(prob.operator, prob.gap, 0.0, interaction=prob.adhesion, tol=1e-10, rtol=1e-3)
     assert res.converged and res.info["normcg_fallbacks"] == 0
+
+    real = paths._solve_quiet
+    h0 = prob.adhesion.range
+    failed = []
+
+    def long_steps_fail(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
+        d = load.get("approach", 0.0)
+        res = real(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
+        long_step = initial is not None and abs(d - initial.approach) > h0
+        if method == "polonsky_keer" and ((initial is None and d > 0) or long_step):
+            failed.append(d)
+            return dataclasses.replace(res, converged=False, message="stalled (made to fail by the test)")
+        return res
+
+    monkeypatch.setattr(paths, "_solve_quiet", long_steps_fail)
+    res = paths.solve_at_force(prob.operator, prob.gap, prob.F_scale, interaction=prob.adhesion, tol=1e-10, rtol=1e-3,
+                               max_solves=1000)
+    assert res.converged and failed and res.info["normcg_fallbacks"] == 0
 
 
 def test_solve_at_force_beyond_pull_off_is_an_input_error(md_small):

@@ -454,8 +454,9 @@ def solve_at_force(
       F = pi R dgamma).
 
     Each step is a Polonsky-Keer solve warm-started from the last state; if it fails, a cold
-    one at a compressive approach, and if that fails too, NormCG from the same warm start
-    (``info["normcg_fallbacks"]`` counts the steps it completed).  Polonsky-Keer restarts its
+    one at a compressive approach, then shorter steps.  Where all of these fail (the path would
+    end there), NormCG from the same warm start completes the step (``info["normcg_fallbacks"]``
+    counts these steps).  Polonsky-Keer restarts its
     CG at every change of the contact set, and with a stiff step law on a fine grid the ring of
     edge nodes can change at every iteration (lambda = 5 on 1248^2: steps of the loading and of
     the unloading towards F = 0 stall); NormCG keeps its directions across such changes.
@@ -513,8 +514,24 @@ def solve_at_force(
     fallbacks = 0  # solves that only NormCG completed
     cold_failed = set()  # approaches (m) where a cold solve did not converge
 
-    def solve(d, warm):
-        nonlocal solves, cold_up, fallbacks
+    def normcg(d, warm):
+        # Last resort, where Polonsky-Keer failed the step warm and cold (and, on the stepping,
+        # at every shorter step): NormCG from the same warm start.  Polonsky-Keer restarts its
+        # CG at every change of the contact set; with a stiff step law on a fine grid the ring
+        # of edge nodes can change at every iteration and the iteration stalls (Maugis
+        # lambda = 5 on 1248^2, 'no progress in 2000 iterations' warm and cold).  NormCG keeps
+        # its conjugate directions across the changes (187 iterations on a loading step there).
+        # Only where the path would otherwise end, so that every path Polonsky-Keer completes
+        # keeps its equilibria.
+        nonlocal solves, fallbacks
+        res = _solve_quiet(operator, h, interaction, tol, max_iterations, warm, method="normcg", approach=float(d))
+        solves += 1
+        if res.converged:
+            fallbacks += 1
+        return res
+
+    def solve(d, warm, fallback=False):
+        nonlocal solves, cold_up
         loading = warm is not None and d > warm.approach
         res = _solve_quiet(operator, h, interaction, tol, max_iterations, None if (cold_up and loading) else warm,
                            approach=float(d))
@@ -530,19 +547,8 @@ def solve_at_force(
                 res, cold_up = cold, cold_up or loading
             else:
                 cold_failed.add(d)
-        if not res.converged and warm is not None:
-            # Last resort, after Polonsky-Keer failed warm (and cold): NormCG from the same warm
-            # start.  Polonsky-Keer restarts its CG at every change of the contact set; with a
-            # stiff step law on a fine grid the ring of edge nodes can change at every iteration
-            # and the iteration stalls (Maugis lambda = 5 on 1248^2: unloading towards F = 0, and
-            # a warm loading step, 'no progress in 2000 iterations').  NormCG keeps its
-            # conjugate directions across the changes (187 iterations on that loading step).
-            # Only here, so that every path Polonsky-Keer completes keeps its equilibria.
-            cg = _solve_quiet(operator, h, interaction, tol, max_iterations, warm, method="normcg", approach=float(d))
-            solves += 1
-            if cg.converged:
-                res = cg
-                fallbacks += 1
+        if not res.converged and warm is not None and fallback:
+            res = normcg(d, warm)
         if progress:
             progress(solves, max_solves)
         return res
@@ -582,6 +588,7 @@ def solve_at_force(
         if up:
             d = min(d, d_full)
         nxt = solve(d, cur)
+        d_step = d
         halvings = 0
         min_step = rng / 4.0 if rng > 0 else first
         while (not nxt.converged or (not up and _separated(nxt))) and halvings < 8 and solves < max_solves \
@@ -591,6 +598,12 @@ def solve_at_force(
             d = 0.5 * (cur.approach + d)
             nxt = solve(d, cur)
             halvings += 1
+        if not nxt.converged and solves < max_solves:
+            # Polonsky-Keer failed the step and every shortened one: NormCG, on the whole step
+            # (a shortened one would leave the path crawling), else on the shortest
+            d_short, d, nxt = d, d_step, normcg(d_step, cur)
+            if (not nxt.converged or (not up and _separated(nxt))) and d_short != d_step and solves < max_solves:
+                d, nxt = d_short, normcg(d_short, cur)
         if not nxt.converged or (not up and _separated(nxt)):
             raise InputError("force", f"no equilibrium at {force:.4g} N on this branch: the contact "
                                       f"{'separates' if nxt.converged else 'has no converged state'} at approach "
@@ -623,7 +636,7 @@ def solve_at_force(
     while solves < max_solves:
         d = (lo.approach * f_hi - hi.approach * f_lo) / (f_hi - f_lo)
         warm = lo if abs(d - lo.approach) < abs(d - hi.approach) else hi
-        res = solve(d, warm)
+        res = solve(d, warm, fallback=True)  # a failure here would end the refinement
         if not res.converged:
             break
         if abs(res.force - force) < abs(best.force - force):
