@@ -456,10 +456,10 @@ def solve_at_force(
     Each step is a Polonsky-Keer solve warm-started from the last state; if it fails, a cold
     one at a compressive approach, then shorter steps.  Where all of these fail (the path would
     end there), NormCG from the same warm start completes the step (``info["normcg_fallbacks"]``
-    counts these steps).  Polonsky-Keer restarts its
-    CG at every change of the contact set, and with a stiff step law on a fine grid the ring of
-    edge nodes can change at every iteration (lambda = 5 on 1248^2: steps of the loading and of
-    the unloading towards F = 0 stall); NormCG keeps its directions across such changes.
+    counts these steps).  Polonsky-Keer restarts its CG at every change of the contact set, and
+    with a stiff step law on a fine grid the ring of edge nodes can change at every iteration
+    (lambda = 5 on 1248^2: steps of the loading and of the unloading towards F = 0 stall);
+    NormCG keeps its directions across such changes.
 
     Parameters
     ----------
@@ -604,6 +604,8 @@ def solve_at_force(
             d_short, d, nxt = d, d_step, normcg(d_step, cur)
             if (not nxt.converged or (not up and _separated(nxt))) and d_short != d_step and solves < max_solves:
                 d, nxt = d_short, normcg(d_short, cur)
+            if progress:
+                progress(solves, max_solves)
         if not nxt.converged or (not up and _separated(nxt)):
             raise InputError("force", f"no equilibrium at {force:.4g} N on this branch: the contact "
                                       f"{'separates' if nxt.converged else 'has no converged state'} at approach "
