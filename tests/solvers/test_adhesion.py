@@ -367,6 +367,27 @@ def test_solve_at_force_reaches_the_force_controlled_state(md_small):
         dugdale_conditions(via, prob)
 
 
+def _fail_polonsky_keer(monkeypatch, fails):
+    """Make the solves of solvers.paths fail where ``fails(method, initial, approach)`` is true:
+    the solve runs, and its result comes back unconverged (a stand-in for the stalls of the
+    lambda = 5 sphere on 1248^2, hours to reproduce).  Returns the list of failed approaches."""
+    import tribobem.solvers.paths as paths
+
+    real = paths._solve_quiet
+    failed = []
+
+    def solve(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
+        res = real(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
+        d = load.get("approach", 0.0)
+        if fails(method, initial, d):
+            failed.append(d)
+            return dataclasses.replace(res, converged=False, message="stalled (made to fail by the test)")
+        return res
+
+    monkeypatch.setattr(paths, "_solve_quiet", solve)
+    return failed
+
+
 def test_solve_at_force_falls_back_on_normcg(md_small, monkeypatch):
     """Where Polonsky-Keer fails on a step of the path, warm-started, cold and on every shorter
     step (as on the lambda = 5 sphere on 1248^2, where it stalls on an unloading step towards
@@ -376,17 +397,8 @@ def test_solve_at_force_falls_back_on_normcg(md_small, monkeypatch):
     approach within 5% of the unit, the Dugdale conditions) and count its fallbacks."""
     import tribobem.solvers.paths as paths
 
-    real = paths._solve_quiet
-    pk_failed = []
-
-    def failing_pk(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
-        res = real(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
-        if method == "polonsky_keer" and (initial is not None or load.get("approach", 0.0) > 0):
-            pk_failed.append(load)
-            return dataclasses.replace(res, converged=False, message="stalled (made to fail by the test)")
-        return res
-
-    monkeypatch.setattr(paths, "_solve_quiet", failing_pk)
+    pk_failed = _fail_polonsky_keer(monkeypatch, lambda method, initial, d: method == "polonsky_keer"
+                                    and (initial is not None or d > 0))
     prob = md_small
     for F in (prob.F_scale, 0.0):
         # every step first runs its failing Polonsky-Keer solves, then the halved steps: many solves
@@ -407,16 +419,13 @@ def test_pull_off_says_when_the_preload_needed_normcg(md_small, monkeypatch):
     (the run's warnings): its start may be another discrete equilibrium than Polonsky-Keer's."""
     import tribobem.solvers.paths as paths
 
-    real_quiet, real_saf = paths._solve_quiet, paths.solve_at_force
+    real_saf = paths.solve_at_force
     loading = []
 
-    def failing_pk(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
-        res = real_quiet(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
+    def fails(method, initial, d):
         if method == "normcg":
             loading.clear()  # one stiff step: Polonsky-Keer carries the rest of the path
-        if loading and method == "polonsky_keer" and (initial is not None or load.get("approach", 0.0) > 0):
-            return dataclasses.replace(res, converged=False, message="stalled (made to fail by the test)")
-        return res
+        return bool(loading) and method == "polonsky_keer" and (initial is not None or d > 0)
 
     def saf(*args, **kw):
         loading.append(True)  # Polonsky-Keer fails within solve_at_force until NormCG has run once
@@ -425,7 +434,7 @@ def test_pull_off_says_when_the_preload_needed_normcg(md_small, monkeypatch):
         finally:
             loading.clear()
 
-    monkeypatch.setattr(paths, "_solve_quiet", failing_pk)
+    _fail_polonsky_keer(monkeypatch, fails)
     monkeypatch.setattr(paths, "solve_at_force", saf)
     prob = md_small
     po = paths.pull_off(prob.operator, prob.gap, prob.adhesion, preload=prob.F_scale, tol=1e-9)
@@ -445,20 +454,13 @@ def test_solve_at_force_without_fallback_keeps_polonsky_keer(md_small, monkeypat
     res = paths.solve_at_force(prob.operator, prob.gap, 0.0, interaction=prob.adhesion, tol=1e-10, rtol=1e-3)
     assert res.converged and res.info["normcg_fallbacks"] == 0
 
-    real = paths._solve_quiet
     h0 = prob.adhesion.range
-    failed = []
 
-    def long_steps_fail(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
-        d = load.get("approach", 0.0)
-        res = real(operator, gap, interaction, tol, max_iterations, initial, method=method, **load)
+    def long_steps_fail(method, initial, d):
         long_step = initial is not None and abs(d - initial.approach) > h0
-        if method == "polonsky_keer" and ((initial is None and d > 0) or long_step):
-            failed.append(d)
-            return dataclasses.replace(res, converged=False, message="stalled (made to fail by the test)")
-        return res
+        return method == "polonsky_keer" and ((initial is None and d > 0) or long_step)
 
-    monkeypatch.setattr(paths, "_solve_quiet", long_steps_fail)
+    failed = _fail_polonsky_keer(monkeypatch, long_steps_fail)
     res = paths.solve_at_force(prob.operator, prob.gap, prob.F_scale, interaction=prob.adhesion, tol=1e-10, rtol=1e-3,
                                max_solves=1000)
     assert res.converged and failed and res.info["normcg_fallbacks"] == 0
