@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import json
 import math
 
 import numpy as np
@@ -186,8 +187,6 @@ def test_adhesive_loop_start_against_maugis_dugdale(tmp_path, method, bar):
     bars: 1.5x Polonsky-Keer's error, and 0.5 % for NormCG, which Polonsky-Keer misses; a wrong
     adhesive force (e.g. the cohesive zone outside the contact dropped from the force balance)
     misses both by tens of percent."""
-    import json
-
     from tribobem.validation.paper_e_model import md_state
 
     d = copy.deepcopy(ADHESIVE_LOOP)
