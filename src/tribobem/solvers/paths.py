@@ -511,7 +511,7 @@ def solve_at_force(
     scale = abs(force)
 
     cold_up = False  # set once a warm-started loading step has failed where a cold one converged
-    fallbacks = 0  # solves that only NormCG completed
+    fallbacks = 0  # states of the path that only NormCG completed
     cold_failed = set()  # approaches (m) where a cold solve did not converge
 
     def normcg(d, warm):
@@ -522,16 +522,13 @@ def solve_at_force(
         # lambda = 5 on 1248^2, 'no progress in 2000 iterations' warm and cold).  NormCG keeps
         # its conjugate directions across the changes (187 iterations on a loading step there).
         # Only where the path would otherwise end, so that every path Polonsky-Keer completes
-        # keeps its equilibria.
-        nonlocal solves, fallbacks
-        res = _solve_quiet(operator, h, interaction, tol, max_iterations, warm, method="normcg", approach=float(d))
+        # keeps its equilibria.  The caller counts the states it takes from it.
+        nonlocal solves
         solves += 1
-        if res.converged:
-            fallbacks += 1
-        return res
+        return _solve_quiet(operator, h, interaction, tol, max_iterations, warm, method="normcg", approach=float(d))
 
     def solve(d, warm, fallback=False):
-        nonlocal solves, cold_up
+        nonlocal solves, cold_up, fallbacks
         loading = warm is not None and d > warm.approach
         res = _solve_quiet(operator, h, interaction, tol, max_iterations, None if (cold_up and loading) else warm,
                            approach=float(d))
@@ -549,6 +546,7 @@ def solve_at_force(
                 cold_failed.add(d)
         if not res.converged and warm is not None and fallback:
             res = normcg(d, warm)
+            fallbacks += int(res.converged)
         if progress:
             progress(solves, max_solves)
         return res
@@ -604,6 +602,7 @@ def solve_at_force(
             d_short, d, nxt = d, d_step, normcg(d_step, cur)
             if (not nxt.converged or (not up and _separated(nxt))) and d_short != d_step and solves < max_solves:
                 d, nxt = d_short, normcg(d_short, cur)
+            fallbacks += int(nxt.converged and (up or not _separated(nxt)))
             if progress:
                 progress(solves, max_solves)
         if not nxt.converged or (not up and _separated(nxt)):
