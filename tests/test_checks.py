@@ -254,3 +254,78 @@ def test_compare_expected_reads_run_and_step_keys():
                                           "reference": "x"})["met"]
     assert compare_expected(summary, None) is None
     assert math.isclose(out["tolerance"], 0.01)
+
+
+# ----------------------------------------------------------------------------- cohesive_edge
+@pytest.mark.parametrize("n, size", [(32, (1e-6, 1e-6)), (48, (1e-6, 0.5e-6))])
+def test_cell_self_compliance_is_the_free_boundary_diagonal(n, size):
+    """Love's centre displacement of a uniformly loaded rectangle is the diagonal of the
+    free-boundary influence matrix (square and 2:1 cells)."""
+    from tribobem.materials import ContactPair, Material
+    from tribobem.elasticity.operators import free_boundary_operator
+    from tribobem.output.checks import cell_self_compliance
+    from tribobem.solvers.normal import _self_compliance
+
+    g = Grid(n, n, size[0], size[1], False)
+    op = free_boundary_operator(g, ContactPair(Material(70e9, 0.3), Material(200e9, 0.25)))
+    assert cell_self_compliance(g.dx, g.dy, op.pair.effective_modulus) == pytest.approx(_self_compliance(op), rel=1e-12)
+
+
+def test_cohesive_edge_band_brackets_the_maugis_dugdale_force():
+    """Maugis-Dugdale sphere at F = 0, lambda = 1, cold force control: Polonsky-Keer's equilibrium
+    keeps every two-way edge node in the cohesive zone, NormCG's keeps every one out; the analytic
+    F0+ lies within the band's force of either (measured 0.7 and 0.9 of it at 160^2), the two
+    differ by 1-2.5 bands (1.6 measured), and the band narrows with the cell (80^2 -> 160^2:
+    5.2 % -> 2.4 %)."""
+    from tribobem.output.checks import cell_self_compliance, cohesive_edge_band, cohesive_edge_nodes
+    from tribobem.solvers.normal import solve_normal
+    from tribobem.validation import maugis_dugdale_problem
+    from tribobem.validation.common import PAIR as MD_PAIR
+    from tribobem.validation.paper_e_model import md_state
+
+    bands = {}
+    for n in (80, 160):
+        prob = maugis_dugdale_problem(1.0, n=n)
+        ad, op = prob.adhesion, prob.operator
+        md = md_state(ad.work_of_adhesion, radius=2.5e-6, E=MD_PAIR.body1.E, nu=MD_PAIR.body1.nu, force=0.0,
+                      z0=0.3e-9)
+        C = cell_self_compliance(op.grid.dx, op.grid.dy, op.pair.effective_modulus)
+        F = {}
+        for method in ("polonsky_keer", "normcg"):
+            r = solve_normal(op, prob.gap, force=0.0, interaction=ad, tol=1e-10, method=method)
+            assert r.converged, r.message
+            band = cohesive_edge_band([r], ad, op.pair.effective_modulus)
+            n_nodes, force = cohesive_edge_nodes(r, ad.h0, ad.sigma0, C)
+            assert (band["nodes"], band["force"]) == (n_nodes, force) and n_nodes > 0
+            g, zone = np.asarray(r.gap), np.asarray(r.adhesive) & ~np.asarray(r.contact)
+            inside = int(np.count_nonzero(zone & (g > ad.h0 - ad.sigma0 * C)))
+            if n == 160:
+                assert inside == (n_nodes if method == "polonsky_keer" else 0)
+            F[method] = r.repulsive_force
+            if n == 160:
+                assert abs(r.repulsive_force - md["repulsive_force"]) < force  # within one band
+            bands[(n, method)] = band["fraction"]
+        if n == 160:
+            spread = F["polonsky_keer"] - F["normcg"]
+            force = bands[(n, "polonsky_keer")] * abs(F["polonsky_keer"])  # at F = 0: F_adh = -F0+
+            assert force < spread < 2.5 * force
+    for method in ("polonsky_keer", "normcg"):
+        assert bands[(160, method)] < 0.6 * bands[(80, method)]
+
+
+def test_cohesive_edge_warns_on_a_coarse_grid_only():
+    from tribobem.solvers.normal import solve_normal
+    from tribobem.validation import maugis_dugdale_problem
+
+    fired = {}
+    for n in (48, 160):
+        prob = maugis_dugdale_problem(1.0, n=n)
+        r = solve_normal(prob.operator, prob.gap, force=0.0, interaction=prob.adhesion, tol=1e-10)
+        w = result_warnings([r], periodic=False, interaction=prob.adhesion,
+                            effective_modulus=prob.operator.pair.effective_modulus)
+        fired[n] = [x for x in w if x.startswith("cohesive_edge:")]
+        # without E* (or without Dugdale adhesion) there is no band to check
+        assert not any(x.startswith("cohesive_edge:") for x in
+                       result_warnings([r], periodic=False, interaction=prob.adhesion))
+    assert len(fired[48]) == 1 and "11.7 %" in fired[48][0] and fired[160] == []
+    assert "cohesive_edge" in CHECKS

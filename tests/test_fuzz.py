@@ -39,6 +39,8 @@ from collections import defaultdict
 
 import numpy as np
 import pytest
+
+from tribobem.output.checks import warning_names
 from hypothesis import HealthCheck, currently_in_test_context, given, note, seed, settings
 from hypothesis import strategies as st
 
@@ -936,7 +938,10 @@ def test_regression_hysteresis_loop_values_do_not_depend_on_the_direction():
 def test_regression_force_controlled_pull_off_is_tensile():
     fuzz_one(PULLOFF_FORCE_COARSE, "regression", "pulloff")
     r = run_scenario(PULLOFF_FORCE_COARSE, progress=False)
-    assert not r.summary["warnings"]  # resolved: the sign below is not a grid effect
+    # resolved: the sign below is not a grid effect (the grid's band of Dugdale equilibria,
+    # 6.4 % of the adhesive force on this coarse grid, moves the force by far less than its size)
+    assert warning_names(r.summary["warnings"]) in ([], ["cohesive_edge"]), r.summary["warnings"]
+    assert r.summary["cohesive_edge"]["fraction"] < 0.1
     # <= 0 to rounding (1e-12 of the preload): with steps this coarse and no bisection the F = 0
     # state is the last one with an equilibrium (the Maugis-Dugdale -0.25 uN needs refine > 0)
     assert r.summary["pull_off_force"] <= 1e-12 * 0.3e-6

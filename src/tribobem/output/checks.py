@@ -16,6 +16,17 @@ warning starts with the check's name and a colon (:data:`CHECKS`):
   cohesive zone by more than the Dugdale range h0 (:func:`cohesive_gap_step`): the whole range
   of the law is crossed within one cell, so the zone cannot be resolved whatever its apparent
   width (steep asperity flanks of a rough surface, a coarse grid);
+* ``cohesive_edge``: with Dugdale adhesion, the nodes at the edge of the cohesive zone whose gap
+  lies within one cell's own displacement under sigma0 (sigma0 x the cell's self-compliance,
+  :func:`cell_self_compliance`) of the Dugdale range h0 carry at least :data:`MAX_EDGE_FORCE` of
+  the adhesive force (:func:`cohesive_edge_nodes`).  Each such node is consistent on either piece
+  of the law: in the zone its tension holds its gap below h0, out of it its gap opens beyond h0.
+  So the grid has several equilibria that differ in these nodes; which one a solve ends on
+  depends on its iteration path (Polonsky-Keer keeps them in the zone, NormCG out of it), and
+  the adhesive forces of the two differ by about twice the band's force.  The band narrows with
+  the cell (sigma0 x self-compliance is proportional to the cell size).  Every Dugdale run
+  reports the band in summary.json (``cohesive_edge``: nodes, force in N, fraction of the
+  adhesive force) whether or not it warns;
 * ``full_contact``: the contact covers more than :data:`FULL_CONTACT` of the domain;
 * ``large_contact``: a sphere whose contact radius exceeds :data:`MAX_A_OVER_R` of its radius
   (the half-space, small-slope model no longer holds);
@@ -45,13 +56,14 @@ from ..units import format_quantity
 
 __all__ = [
     "result_warnings", "warning_names", "cohesive_cells", "cohesive_gap_step", "patch_width",
-    "stick_zone_width", "scan_pixel", "compare_expected", "pull_off_statement", "CHECKS",
+    "stick_zone_width", "scan_pixel", "cell_self_compliance", "cohesive_edge_nodes", "cohesive_edge_band",
+    "MAX_EDGE_FORCE", "compare_expected", "pull_off_statement", "CHECKS",
     "MIN_COHESIVE_CELLS", "FULL_CONTACT", "MAX_A_OVER_R", "MIN_CONTACT_CELLS", "MIN_STICK_CELLS",
     "MAX_GAP_STEP", "EDGE_TENSION_FRACTION",
 ]
 
 #: Names of the checks (the prefix of their warnings).
-CHECKS = ("edge", "cohesive_zone", "cohesive_range", "full_contact", "large_contact", "contact_cells",
+CHECKS = ("edge", "cohesive_zone", "cohesive_range", "cohesive_edge", "full_contact", "large_contact", "contact_cells",
           "topography_pixels", "stick_zone")
 
 #: Fewest cells across the cohesive zone for resolved adhesive forces (Maugis-Dugdale pull-off
@@ -60,6 +72,13 @@ MIN_COHESIVE_CELLS = 3.0
 #: Largest gap change between neighbouring cells at the cohesive zone, in units of h0: beyond
 #: it the Dugdale range is crossed within one cell.
 MAX_GAP_STEP = 1.0
+#: Largest force of the cohesive zone's two-way edge nodes (:func:`cohesive_edge_nodes`), as a
+#: fraction of the state's adhesive force, before the ``cohesive_edge`` warning.  The adhesive
+#: forces of the grid's equilibria are uncertain by about this fraction (on Maugis-Dugdale
+#: spheres the analytic force lay within 0.7-1.0 of it of either solver's), loop energies by
+#: about three times it; 5 %, the bar of the adhesion validation, as for ``cohesive_zone``.
+#: Below it the fraction is still in summary.json (``cohesive_edge``) and the report.
+MAX_EDGE_FORCE = 0.05
 #: Contact fraction above which the domain is too small for the contact.
 FULL_CONTACT = 0.9
 #: Largest contact radius over sphere radius for the half-space model.
@@ -127,6 +146,63 @@ def cohesive_cells(res) -> float:
     length = outer * dx * math.pi / 4.0
     width = (np.count_nonzero(adh) * res.grid.cell_area) / length
     return width / dx
+
+
+def cell_self_compliance(dx: float, dy: float, effective_modulus: float) -> float:
+    """Displacement (m/Pa) of a cell's centre under a unit pressure on that cell alone.
+
+    Love's uniform pressure on a dx x dy rectangle of an elastic half-space:
+    w = (4 / (pi E*)) [a asinh(b / a) + b asinh(a / b)] with a = dx/2, b = dy/2 (for a square
+    cell 1.122 dx / E*), the diagonal of the free-boundary influence matrix.
+
+    Parameters
+    ----------
+    dx, dy : float
+        Cell size (m).
+    effective_modulus : float
+        Composite modulus E* of the pair (Pa), 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2.
+
+    Returns
+    -------
+    float
+        m/Pa.
+    """
+    a, b = 0.5 * dx, 0.5 * dy
+    return 4.0 * (a * math.asinh(b / a) + b * math.asinh(a / b)) / (math.pi * effective_modulus)
+
+
+def cohesive_edge_nodes(res, h0: float, sigma0: float, compliance: float) -> tuple[int, float]:
+    """The nodes at the edge of a Dugdale cohesive zone that are consistent on either piece of
+    the law, and the adhesive force they carry in it.
+
+    A node in the zone (0 < g < h0, tension sigma0) whose gap is above h0 - sigma0 C would open
+    beyond h0 without its own tension; a free node (g >= h0) whose gap is below h0 + sigma0 C
+    would close into the range under it (C: the cell's self-compliance, m/Pa).  Either kind could
+    be on the other piece of the law in another equilibrium of the same grid.
+
+    Parameters
+    ----------
+    res : NormalResult
+        A solved normal state (``gap``, ``contact``, ``adhesive``, ``grid``).
+    h0 : float
+        Dugdale range (m).
+    sigma0 : float
+        Dugdale stress (Pa).
+    compliance : float
+        The cell's self-compliance (m/Pa), e.g. :func:`cell_self_compliance`.
+
+    Returns
+    -------
+    (int, float)
+        The number of such nodes and sigma0 x their area (N).
+    """
+    g = np.asarray(res.gap, dtype=float)
+    contact = np.asarray(res.contact, bool)
+    zone = np.asarray(res.adhesive, bool) & ~contact
+    jump = sigma0 * compliance
+    two_way = (zone & (g > h0 - jump)) | (~zone & ~contact & (g >= h0) & (g < h0 + jump))
+    n = int(np.count_nonzero(two_way))
+    return n, n * sigma0 * res.grid.cell_area
 
 
 def cohesive_gap_step(res) -> float:
@@ -250,6 +326,60 @@ def scan_pixel(files: Mapping | None) -> tuple[float, str] | None:
     return best
 
 
+def cohesive_edge_band(results: Sequence, interaction, effective_modulus: float | None) -> dict | None:
+    """The worst state's two-way edge nodes of a Dugdale cohesive zone (:func:`cohesive_edge_nodes`).
+
+    Parameters
+    ----------
+    results : sequence of NormalResult
+        The solved states of a run.
+    interaction : Interaction or None
+        The stress law outside contact; only :class:`~tribobem.interactions.dugdale.DugdaleAdhesion`
+        has the band (None otherwise).
+    effective_modulus : float or None
+        Composite modulus E* of the pair (Pa); None: no band.
+
+    Returns
+    -------
+    dict or None
+        ``nodes`` (count), ``force`` (N, sigma0 x their area) and ``fraction`` (of that state's
+        adhesive force) of the state where the fraction is largest; None without Dugdale
+        adhesion, E* or a state with adhesive force.
+    """
+    from ..interactions.dugdale import DugdaleAdhesion
+
+    if not isinstance(interaction, DugdaleAdhesion) or not effective_modulus or effective_modulus <= 0:
+        return None
+    res = [r for r in results if r is not None]
+    if not res:
+        return None
+    C = cell_self_compliance(res[0].grid.dx, res[0].grid.dy, effective_modulus)
+    worst = None
+    for r in res:
+        f_adh = abs(float(r.adhesive_force))
+        if f_adh <= 0:
+            continue
+        n, f = cohesive_edge_nodes(r, interaction.h0, interaction.sigma0, C)
+        if worst is None or f / f_adh > worst["fraction"]:
+            worst = {"nodes": n, "force": f, "fraction": f / f_adh, "gap_band": interaction.sigma0 * C}
+    return worst
+
+
+def _cohesive_edge_warning(res, interaction, effective_modulus) -> str | None:
+    """The ``cohesive_edge`` warning over the states (the worst one), or None."""
+    band = cohesive_edge_band(res, interaction, effective_modulus)
+    if band is None or band["fraction"] < MAX_EDGE_FORCE:
+        return None
+    frac, n, f, jump = band["fraction"], band["nodes"], band["force"], band["gap_band"]
+    return (f"cohesive_edge: {n} node(s) at the edge of the cohesive zone have gaps within sigma0 x the cell's "
+            f"self-compliance ({jump:.3g} m = {jump / interaction.h0:.2g} h0) of the Dugdale range h0, so each is "
+            f"consistent both in and out of the zone; they carry {format_quantity(f, 'force')}, {100 * frac:.1f} % "
+            "of the adhesive force, in at least one saved state. The grid has equilibria that differ in these "
+            "nodes, and which one a solve ends on depends on its iteration path (solver.method, the load steps): "
+            f"adhesive and pull-off forces are set by the grid to about +-{100 * frac:.1f} %, loop energies to a "
+            "few times that; refine grid.n (the band narrows with the cell)")
+
+
 def warning_names(warnings: Sequence[str]) -> list[str]:
     """The check names (:data:`CHECKS`) of a list of warnings, in order, without repeats.
 
@@ -273,7 +403,7 @@ def warning_names(warnings: Sequence[str]) -> list[str]:
 
 def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radius: float | None = None,
                     tangential: Sequence | None = None, files: Mapping | None = None,
-                    gross_slip: bool | None = None) -> list[str]:
+                    gross_slip: bool | None = None, effective_modulus: float | None = None) -> list[str]:
     """Warnings for states the grid cannot back (see the module docstring).
 
     Parameters
@@ -295,6 +425,9 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
     gross_slip : bool, optional
         The run's own verdict (summary ``gross_slip``): False when it claims that the last
         state is still in partial slip, which the stick-zone check then requires resolved.
+    effective_modulus : float, optional
+        Composite modulus E* of the pair (Pa), for the ``cohesive_edge`` check (skipped
+        without it).
 
     Returns
     -------
@@ -326,6 +459,9 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
                 out.append(f"cohesive_zone: the cohesive zone is {what} (fewer than {MIN_COHESIVE_CELLS:g}): "
                            "adhesive and pull-off forces are set by the grid, not resolved; refine grid.n or "
                            "shrink the domain")
+        edge = _cohesive_edge_warning(res, interaction, effective_modulus)
+        if edge:
+            out.append(edge)
         steps = [cohesive_gap_step(r) for r in in_contact]
         steps = [s for s in steps if math.isfinite(s)]
         if steps and max(steps) > MAX_GAP_STEP * h0:

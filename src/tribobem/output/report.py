@@ -673,6 +673,13 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
     for key, label, dim in _RUN_SCALARS:
         if s.get(key) is not None and not isinstance(s[key], list):  # a humid pull-off's list: its own section
             rows.append((label, _fmt(s[key], dim)))
+    band = s.get("cohesive_edge")
+    if isinstance(band, dict) and band.get("fraction") is not None:
+        # the grid's band of Dugdale equilibria (output/checks.py, cohesive_edge)
+        rows.append(("grid band of the Dugdale equilibria",
+                     f"{band.get('nodes')} cohesive-zone edge nodes consistent in and out of the zone, "
+                     f"{_fmt(band.get('force'), 'force')}: adhesive forces set by the grid to about "
+                     f"\u00b1{100 * float(band['fraction']):.1f} %"))
     prob = s.get("problem", {}) or {}
     for key, label, dim in _PROBLEM_SCALARS:
         if prob.get(key) is not None:

@@ -27,7 +27,7 @@ from .build import Problem, build_problem
 from .schema import Scenario, parse_scenario
 from ..output import write_outputs
 from ..output.atomic import staged, pause_hook
-from ..output.checks import result_warnings, compare_expected
+from ..output.checks import cohesive_edge_band, compare_expected, result_warnings
 from ..output.fields import build_fields
 from ..output.summary import versions, write_summary
 
@@ -289,7 +289,11 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     # the runner returned (before any fields selection).
     warns += result_warnings(out.results, periodic=pb.grid.periodic, interaction=pb.interaction,
                              radius=pb.info.get("radius"), tangential=out.tangential,
-                             files=pb.info.get("files"), gross_slip=out.run.get("gross_slip"))
+                             files=pb.info.get("files"), gross_slip=out.run.get("gross_slip"),
+                             effective_modulus=pb.info.get("effective_modulus"))
+    # The grid's band of Dugdale equilibria (output/checks.py, cohesive_edge): reported on every
+    # Dugdale run, warned above MAX_EDGE_FORCE.
+    edge_band = cohesive_edge_band(out.results, pb.interaction, pb.info.get("effective_modulus"))
     if not converged:
         bad = [i for i, r in enumerate(rows) if not r.get("converged")]
         where = ", ".join(str(i) for i in bad[:10]) + (", ..." if len(bad) > 10 else "")
@@ -311,6 +315,7 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         **out.run,
         "jumps": [dict(j) for j in curve.jumps] if curve is not None else [],
         "problem": pb.info,
+        **({"cohesive_edge": edge_band} if edge_band is not None else {}),
         "warnings": warns,
         "created": _dt.datetime.now().isoformat(timespec="seconds"),
     }

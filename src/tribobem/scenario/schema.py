@@ -837,7 +837,7 @@ EXPECTED_KEYS: dict[str, str] = {k: d for kind in RUN_KINDS.values() for k, d in
 #: Names of the result checks an ``expected.warnings`` list may name: those of
 #: :data:`tribobem.output.checks.CHECKS` (repeated here so that parsing a scenario does not import
 #: the output package; a test keeps the two equal).
-CHECK_NAMES = ("edge", "cohesive_zone", "cohesive_range", "full_contact", "large_contact", "contact_cells",
+CHECK_NAMES = ("edge", "cohesive_zone", "cohesive_range", "cohesive_edge", "full_contact", "large_contact", "contact_cells",
                "topography_pixels", "stick_zone")
 
 
