@@ -23,8 +23,10 @@ Windows (``window=True``, the default): at a fixed normal force the contact and 
 zone stay in one place, so on a free-boundary grid every step after the start is solved on a
 window around them (:mod:`.window`: the same discrete problem on fewer cells, checked after each
 step by one whole-grid convolution and grown when a node outside it closes or enters the adhesive
-range; the stored states are whole-grid ones).  On the 256^2 benchmark loop the window is 192^2
-(padded transforms of 384^2 instead of 512^2).
+range; the stored states are whole-grid ones).  On the 256^2 loop of benchmarks/hysteresis.py the
+window is 192^2 (padded transforms of 384^2 instead of 512^2); the adhesive loop of
+benchmarks/adhesive_loop.py, whose cohesive zone spans 214 of its 256 rows, is solved on the
+whole grid (a window would not pay, ``window.MAX_FRACTION``).
 
 Gross sliding against a rough counterface (thesis recommendation 3): with ``moving_gap`` the
 upper body's geometry moves with the sliding (after each step in gross slip, by that step's
