@@ -679,7 +679,8 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
         rows.append(("grid band of the Dugdale equilibria",
                      f"{band.get('nodes')} cohesive-zone edge nodes consistent in and out of the zone, "
                      f"{_fmt(band.get('force'), 'force')}: adhesive forces set by the grid to about "
-                     f"\u00b1{100 * float(band['fraction']):.1f} %"))
+                     f"\u00b1{100 * float(band['fraction']):.1f} %"
+                     + (", loop energies several times that" if s.get("dissipated_energy") else "")))
     prob = s.get("problem", {}) or {}
     for key, label, dim in _PROBLEM_SCALARS:
         if prob.get(key) is not None:
