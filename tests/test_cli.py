@@ -74,7 +74,7 @@ def test_demo_is_resolved_and_meets_maugis_dugdale(tmp_path):
     s = json.loads((out / "summary.json").read_text())
     assert s["warnings"] == [] and s["expected"]["met"]
     assert s["cohesive_zone_cells"] > 8
-    assert "cohesive zone" in r.output and ": resolved)" in r.output
+    assert "cohesive zone" in r.output and ": resolved)" in r.output and "grid band +-3.2 %" in r.output
     # the grid's band of Dugdale equilibria is reported (3.2 % measured), below the 5 % warning,
     # and at least as wide as the demo's distance from Maugis-Dugdale (+2.0 %)
     band = s["cohesive_edge"]

@@ -585,13 +585,14 @@ def pull_off_statement(summary: Mapping) -> str:
     ----------
     summary : mapping
         A pull-off run's summary (``pull_off_force``, ``expected``, ``warnings``,
-        ``cohesive_zone_cells``).
+        ``cohesive_zone_cells``, ``cohesive_edge``).
 
     Returns
     -------
     str
         E.g. ``"pull-off -0.2549 µN (Maugis-Dugdale ... -0.25 µN, +2.0 %; cohesive zone 10.1
-        cells wide: resolved)"``; "NOT resolved" with the names of the checks that fired.
+        cells wide, grid band +-3.2 %: resolved)"`` (the band: summary ``cohesive_edge``);
+        "NOT resolved" with the names of the checks that fired.
     """
     f = summary.get("pull_off_force")
     text = f"pull-off {format_quantity(f, 'force', 4)}"
@@ -605,8 +606,11 @@ def pull_off_statement(summary: Mapping) -> str:
     fired = warning_names(summary.get("warnings") or [])
     cells = summary.get("cohesive_zone_cells")
     zone = f"cohesive zone {cells:.1f} cells wide" if isinstance(cells, (int, float)) else "cohesive zone"
+    band = summary.get("cohesive_edge")
+    grid = (f", grid band +-{100 * float(band['fraction']):.1f} %"
+            if isinstance(band, Mapping) and band.get("fraction") is not None else "")
     if fired:
-        inside.append(f"{zone}: NOT resolved ({', '.join(fired)}: see the warnings)")
+        inside.append(f"{zone}{grid}: NOT resolved ({', '.join(fired)}: see the warnings)")
     else:
-        inside.append(f"{zone}: resolved")
+        inside.append(f"{zone}{grid}: resolved")
     return f"{text} ({'; '.join(inside)})"
