@@ -39,12 +39,11 @@ from collections import defaultdict
 
 import numpy as np
 import pytest
-
-from tribobem.output.checks import warning_names
 from hypothesis import HealthCheck, currently_in_test_context, given, note, seed, settings
 from hypothesis import strategies as st
 
 from tribobem.errors import InputError
+from tribobem.output.checks import warning_names
 from tribobem.scenario import run_scenario
 
 # ----------------------------------------------------------------------------- settings

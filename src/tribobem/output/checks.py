@@ -155,7 +155,9 @@ def cell_self_compliance(dx: float, dy: float, effective_modulus: float) -> floa
 
     Love's uniform pressure on a dx x dy rectangle of an elastic half-space:
     w = (4 / (pi E*)) [a asinh(b / a) + b asinh(a / b)] with a = dx/2, b = dy/2 (for a square
-    cell 1.122 dx / E*), the diagonal of the free-boundary influence matrix (the periodic one's
+    cell 1.122 dx / E*): the zz influence coefficient at zero offset
+    (:func:`~tribobem.elasticity.influence.composite_coefficients`), the diagonal of the
+    free-boundary influence matrix (the periodic one's
     differs by the images and the removed mean: -1.7 % on a 64^2 cell, -0.4 % on 256^2).
 
     Parameters
@@ -170,8 +172,12 @@ def cell_self_compliance(dx: float, dy: float, effective_modulus: float) -> floa
     float
         m/Pa.
     """
-    a, b = 0.5 * dx, 0.5 * dy
-    return 4.0 * (a * math.asinh(b / a) + b * math.asinh(a / b)) / (math.pi * effective_modulus)
+    from ..elasticity.influence import composite_coefficients
+    from ..materials import ContactPair, Material
+
+    # the zz coefficient depends on the pair through E* alone: a body of modulus E*, nu = 0
+    pair = ContactPair(Material(effective_modulus, 0.0), Material.rigid())
+    return float(composite_coefficients("zz", pair, 0.0, 0.0, dx, dy))
 
 
 def cohesive_edge_nodes(res, h0: float, sigma0: float, compliance: float) -> tuple[int, float]:
