@@ -75,7 +75,8 @@ MAX_GAP_STEP = 1.0
 #: Largest force of the cohesive zone's two-way edge nodes (:func:`cohesive_edge_nodes`), as a
 #: fraction of the state's adhesive force, before the ``cohesive_edge`` warning.  The adhesive
 #: forces of the grid's equilibria are uncertain by about this fraction (on Maugis-Dugdale
-#: spheres the analytic force was 0.7-1.0 band from either solver's), loop energies by about
+#: spheres the analytic force was 0.4-1.3 band from either solver's at lambda = 0.3-2, validation
+#: case ``md_grid_band``), loop energies by about
 #: three times it (one loop measured); 5 %: the bar of the adhesion validation.  Relative to
 #: the net force the band is larger where the adhesive and repulsive parts nearly cancel
 #: (lambda = 5 on 1248^2: 2.6 % of the adhesive force, 4-6 % of the net force scale).

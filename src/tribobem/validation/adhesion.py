@@ -24,6 +24,15 @@ Cases (:data:`CASES`)
     (:func:`tribobem.solvers.paths.pull_off`) vs the Maugis-Dugdale pull-off, 3%.  Quick:
     lambda = 1; full: all six (lambda = 5 by a short scan about the analytic pull-off approach,
     :func:`md_pull_off_scan`: the continuation would need ~60 solves on 1248^2).
+``md_grid_band``
+    The grid's band of Dugdale equilibria (:func:`tribobem.output.checks.cohesive_edge_band`,
+    the ``cohesive_edge`` result) against the spread it estimates: the same sphere at F = 0,
+    cold force control, solved by Polonsky-Keer and by NormCG, which end on the two sides of
+    the band.  Rows: each solver's repulsive force F0+ against Maugis-Dugdale's within 1.5 of
+    its band (measured 0.4-1.3 at lambda = 0.3-2), and the spread between the two solvers
+    against twice the mean band within 75 % (measured 0.8-2.7 bands).  A band too narrow fails
+    the first rows, one too wide the last.  Quick: lambda = 1; full: 0.3, 1 and 2 (the
+    default grids of ``maugis_dugdale``).
 ``guduru``
     Rigid sphere on an axisymmetric wavy surface with Dugdale adhesion (Paper A 5.2, Fig. 6:
     E = 73 GPa, nu = 0.17, R = 2.5 mm, wavelength 0.8 um, lambda = 1): the force along a
@@ -790,6 +799,57 @@ def _md_pull_off_rows(quick: bool) -> list[ValidationRow]:
     return rows
 
 
+#: Largest error of either solver's F0+ in units of its grid band (md_grid_band rows).
+MD_BAND_TOL = 1.5
+#: Relative tolerance of the spread between the solvers against twice the mean band.
+MD_SPREAD_TOL = 0.75
+
+
+def md_grid_band_rows(prob: MaugisDugdaleProblem) -> list[ValidationRow]:
+    """The ``md_grid_band`` rows of one lambda (module docstring).
+
+    Parameters
+    ----------
+    prob : MaugisDugdaleProblem
+        The sphere and its grid.
+
+    Returns
+    -------
+    list of ValidationRow
+        F0+ of Polonsky-Keer and of NormCG against Maugis-Dugdale (tolerance: 1.5 x that
+        solver's band as a fraction of F0+), and their spread against twice the mean band.
+    """
+    from ..output.checks import cohesive_edge_band
+    from .paper_e_model import md_state
+
+    ad, op = prob.adhesion, prob.operator
+    case = f"md_grid_band lambda={prob.lam:g} {prob.grid.nx}^2"
+    md = md_state(ad.work_of_adhesion, radius=prob.radius, E=PAIR.body1.E, nu=PAIR.body1.nu, force=0.0,
+                  z0=prob.z0)
+    rows, F, bands = [], {}, []
+    for method, name in (("polonsky_keer", "Polonsky-Keer"), ("normcg", "NormCG")):
+        res = _solve(op, prob.gap, force=0.0, interaction=ad, tol=1e-10, method=method)
+        band = cohesive_edge_band([res], ad, op.pair.effective_modulus)
+        # the band as a fraction of F0+ (at F = 0 the adhesive force is -F0+)
+        # (nan where the solve failed or there is no band: the row then fails)
+        frac = band["force"] / abs(res.repulsive_force) if res.converged and band else math.nan
+        F[method] = res.repulsive_force if res.converged else math.nan
+        bands.append(frac)
+        rows.append(_row(case, f"F0+ at F = 0, {name} (tolerance {MD_BAND_TOL:g} x its band {100 * frac:.2f} %)",
+                         md["repulsive_force"], F[method], MD_BAND_TOL * frac))
+    mean = 0.5 * (bands[0] + bands[1]) * abs(md["repulsive_force"])
+    rows.append(_row(case, "F0+ spread Polonsky-Keer - NormCG against 2 x the mean band",
+                     2.0 * mean, F["polonsky_keer"] - F["normcg"], MD_SPREAD_TOL))
+    return rows
+
+
+def _md_grid_band_rows(quick: bool) -> list[ValidationRow]:
+    rows = []
+    for lam in ((1.0,) if quick else (0.3, 1.0, 2.0)):
+        rows += md_grid_band_rows(maugis_dugdale_problem(lam))
+    return rows
+
+
 def _guduru_rows(quick: bool) -> list[ValidationRow]:
     rows = []
     if quick:
@@ -804,5 +864,6 @@ def _guduru_rows(quick: bool) -> list[ValidationRow]:
 CASES: dict[str, Callable[[bool], list[ValidationRow]]] = {
     "maugis_dugdale": _md_rows,
     "md_pull_off": _md_pull_off_rows,
+    "md_grid_band": _md_grid_band_rows,
     "guduru": _guduru_rows,
 }

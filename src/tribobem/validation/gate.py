@@ -113,7 +113,8 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
     "hertz": "full", "westergaard": "full", "bisinusoidal_small_load": "full", "bisinusoidal_near_full": "full",
     "force_balance": "full", "periodic_vs_free": "full",
     # adhesion
-    "maugis_dugdale": md_gate_rows, "md_pull_off": md_pull_off_gate_rows, "guduru": "full",
+    "maugis_dugdale": md_gate_rows, "md_pull_off": md_pull_off_gate_rows, "md_grid_band": "full",
+    "guduru": "full",
     # tangential
     "cattaneo_mindlin": "full", "cattaneo_periodic": "full", "mindlin_stiffness": "full", "coupling_sign": "full",
     "spence": "full",
