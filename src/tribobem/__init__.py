@@ -5,7 +5,8 @@ Data flows one way: inputs -> geometry -> operator -> solver -> result -> output
 """
 
 from .elasticity import free_boundary_operator, make_operator, periodic_operator
-from .errors import ConvergenceError, ConvergenceWarning, InputError, MemoryBudgetError, TopographyError, TribobemError
+from .errors import (ConvergenceError, ConvergenceWarning, InputError, MemoryBudgetError, ResultWarning, TopographyError,
+                     TribobemError)
 from .grid import Grid
 from .interactions import DugdaleAdhesion
 from .materials import ContactPair, Material, effective_modulus
@@ -31,6 +32,6 @@ __all__ = [
     "load_scenario", "parse_scenario", "run_scenario", "Scenario", "RunResult", "read_summary", "read_fields", "to_si",
     # errors
     "TribobemError", "InputError", "TopographyError", "MemoryBudgetError", "ScenarioError",
-    "ConvergenceError", "ConvergenceWarning", "GrossSlipError",
+    "ConvergenceError", "ConvergenceWarning", "ResultWarning", "GrossSlipError",
     "__version__",
 ]

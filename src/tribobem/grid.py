@@ -210,8 +210,10 @@ class Grid:
         need = self.estimate_bytes(n_fields, n_components)
         have = int((budget if budget is not None else available_memory()) * MEMORY_FRACTION)
         if need > have:
+            # memory grows with the number of cells: the largest square grid of this kind that fits
+            fit = int(math.sqrt(self.nx * self.ny * have / need))
             raise MemoryBudgetError(
-                f"grid {self.nx} x {self.ny} ({'periodic' if self.periodic else 'free boundary'}) "
-                f"needs about {need / 2**30:.1f} GiB but only {have / 2**30:.1f} GiB may be used; "
-                "reduce grid.n or use a periodic grid"
+                f"grid.n: a {self.nx} x {self.ny} grid ({'periodic' if self.periodic else 'free boundary'}) "
+                f"needs about {need / 2**30:.1f} GiB but only {have / 2**30:.1f} GiB of this machine's memory may "
+                f"be used; reduce grid.n (about {fit} x {fit} fits here)"
             )

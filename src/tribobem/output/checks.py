@@ -186,9 +186,13 @@ def cohesive_edge_nodes(res, h0: float, sigma0: float, compliance: float) -> tup
     the law, and the adhesive force they carry in it.
 
     A node in the zone (0 < g < h0, tension sigma0) whose gap is above h0 - sigma0 C would open
-    beyond h0 without its own tension; a free node (g >= h0) whose gap is below h0 + sigma0 C
-    would close into the range under it (C: the cell's self-compliance, m/Pa).  Either kind could
-    be on the other piece of the law in another equilibrium of the same grid.
+    beyond h0 without its own tension; a free node (g >= h0) next to the zone or the contact
+    whose gap is below h0 + sigma0 C would close into the range under it (C: the cell's
+    self-compliance, m/Pa).  Either kind could be on the other piece of the law in another
+    equilibrium of the same grid.  Only Dugdale's zone counts: a tensile node whose gap is
+    beyond the range (a meniscus, a long-range tail) is not in it, and a free node away from
+    the zone's edge is not counted (on a flat top many such gaps lie near h0, and none of them
+    borders the zone).
 
     Parameters
     ----------
@@ -208,11 +212,26 @@ def cohesive_edge_nodes(res, h0: float, sigma0: float, compliance: float) -> tup
     """
     g = np.asarray(res.gap, dtype=float)
     contact = np.asarray(res.contact, bool)
-    zone = np.asarray(res.adhesive, bool) & ~contact
     jump = sigma0 * compliance
-    two_way = (zone & (g > h0 - jump)) | (~zone & ~contact & (g >= h0) & (g < h0 + jump))
+    zone = _dugdale_zone(res, h0, jump)
+    held = zone | contact
+    # 4-neighbours of the zone or the contact (no wrap: the edge nodes of a free grid have fewer)
+    near = np.zeros_like(held)
+    near[1:, :] |= held[:-1, :]
+    near[:-1, :] |= held[1:, :]
+    near[:, 1:] |= held[:, :-1]
+    near[:, :-1] |= held[:, 1:]
+    two_way = (zone & (g > h0 - jump)) | (~held & near & (g >= h0) & (g < h0 + jump))
     n = int(np.count_nonzero(two_way))
     return n, n * sigma0 * res.grid.cell_area
+
+
+def _dugdale_zone(res, h0: float, jump: float) -> np.ndarray:
+    """The Dugdale cohesive nodes of a state: tensile, out of contact, gap within the range
+    (h0 plus the band ``jump``, where a two-way node may sit at convergence)."""
+    g = np.asarray(res.gap, dtype=float)
+    contact = np.asarray(res.contact, bool)
+    return np.asarray(res.adhesive, bool) & ~contact & (g < h0 + jump)
 
 
 def cohesive_gap_step(res) -> float:
@@ -339,6 +358,13 @@ def scan_pixel(files: Mapping | None) -> tuple[float, str] | None:
 def cohesive_edge_band(results: Sequence, interaction, effective_modulus: float | None) -> dict | None:
     """The worst state's two-way edge nodes of a Dugdale cohesive zone (:func:`cohesive_edge_nodes`).
 
+    The band is a fraction of the state's adhesive force.  It measures
+    how far the grid's equilibria can differ only where the zone is resolved: where it is
+    narrower than one cell (:func:`cohesive_cells`), where the gap crosses the Dugdale range
+    within one cell (:func:`cohesive_gap_step`: no node lies near h0, so the count is 0 however
+    coarse the grid) or where the two-way nodes would carry more than the zone itself, the
+    state is *not resolved* (``resolved`` False, ``reason`` says which) and no fraction is shown.
+
     Parameters
     ----------
     results : sequence of NormalResult
@@ -352,9 +378,11 @@ def cohesive_edge_band(results: Sequence, interaction, effective_modulus: float 
     Returns
     -------
     dict or None
-        ``nodes`` (count), ``force`` (N, sigma0 x their area) and ``fraction`` (of that state's
-        adhesive force) of the state where the fraction is largest; None without Dugdale
-        adhesion, E* or a state with adhesive force.
+        ``nodes`` (count), ``force`` (N, sigma0 x their area), ``fraction`` (of that state's
+        adhesive force; None where not resolved), ``gap_band`` (sigma0 x C, m), ``resolved``
+        (bool) and ``reason`` (str or None) of the state where the fraction is largest, or of
+        the first state that is not resolved; None without Dugdale adhesion, E* or a state with
+        an adhesive force and a cohesive zone.
     """
     from ..interactions.dugdale import DugdaleAdhesion
 
@@ -363,22 +391,45 @@ def cohesive_edge_band(results: Sequence, interaction, effective_modulus: float 
     res = [r for r in results if r is not None]
     if not res:
         return None
+    h0, sigma0 = interaction.h0, interaction.sigma0
     C = cell_self_compliance(res[0].grid.dx, res[0].grid.dy, effective_modulus)
+    jump = sigma0 * C
     worst = None
     for r in res:
         f_adh = abs(float(r.adhesive_force))
-        if f_adh <= 0:
+        if f_adh <= 0 or not _dugdale_zone(r, h0, jump).any():
             continue
-        n, f = cohesive_edge_nodes(r, interaction.h0, interaction.sigma0, C)
-        if worst is None or f / f_adh > worst["fraction"]:
-            worst = {"nodes": n, "force": f, "fraction": f / f_adh, "gap_band": interaction.sigma0 * C}
+        n, f = cohesive_edge_nodes(r, h0, sigma0, C)
+        reason = None
+        in_contact = bool(np.asarray(r.contact, bool).any())
+        width = cohesive_cells(r) if in_contact else math.inf
+        step = cohesive_gap_step(r) if in_contact else math.nan
+        if width < 1.0:
+            reason = f"the cohesive zone is about {width:.1f} cell(s) wide (narrower than one cell)"
+        elif math.isfinite(step) and step > MAX_GAP_STEP * h0:
+            reason = f"the gap crosses the Dugdale range within one cell (by up to {step / h0:.2g} h0)"
+        elif f > f_adh:
+            reason = "the two-way nodes would carry more than the adhesive force itself"
+        row = {"nodes": n, "force": f, "fraction": None if reason else f / f_adh, "gap_band": jump,
+               "resolved": reason is None, "reason": reason}
+        if reason is not None:
+            if worst is None or worst["resolved"]:
+                worst = row
+        elif worst is None or (worst["resolved"] and row["fraction"] > worst["fraction"]):
+            worst = row
     return worst
 
 
 def _cohesive_edge_warning(res, interaction, effective_modulus) -> str | None:
     """The ``cohesive_edge`` warning over the states (the worst one), or None."""
     band = cohesive_edge_band(res, interaction, effective_modulus)
-    if band is None or band["fraction"] < MAX_EDGE_FORCE:
+    if band is None:
+        return None
+    if not band["resolved"]:
+        return (f"cohesive_edge: the grid's band of Dugdale equilibria is not resolved in at least one saved state: "
+                f"{band['reason']}, so the grid cannot say how far its adhesive and pull-off forces are from the "
+                "continuous solution (they are set by a few cells); refine grid.n or shrink the domain")
+    if band["fraction"] < MAX_EDGE_FORCE:
         return None
     frac, n, f, jump = band["fraction"], band["nodes"], band["force"], band["gap_band"]
     return (f"cohesive_edge: {n} node(s) at the edge of the cohesive zone have gaps within sigma0 x the cell's "
@@ -413,7 +464,8 @@ def warning_names(warnings: Sequence[str]) -> list[str]:
 
 def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radius: float | None = None,
                     tangential: Sequence | None = None, files: Mapping | None = None,
-                    gross_slip: bool | None = None, effective_modulus: float | None = None) -> list[str]:
+                    gross_slip: bool | None = None, effective_modulus: float | None = None,
+                    grid_band: bool = True) -> list[str]:
     """Warnings for states the grid cannot back (see the module docstring).
 
     Parameters
@@ -438,6 +490,9 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
     effective_modulus : float, optional
         Composite modulus E* of the pair (Pa), for the ``cohesive_edge`` check (skipped
         without it).
+    grid_band : bool
+        Run the ``cohesive_edge`` check (default).  False for runs with menisci, where the
+        tension outside contact is not Dugdale's two-valued law alone.
 
     Returns
     -------
@@ -469,7 +524,7 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
                 out.append(f"cohesive_zone: the cohesive zone is {what} (fewer than {MIN_COHESIVE_CELLS:g}): "
                            "adhesive and pull-off forces are set by the grid, not resolved; refine grid.n or "
                            "shrink the domain")
-        edge = _cohesive_edge_warning(res, interaction, effective_modulus)
+        edge = _cohesive_edge_warning(res, interaction, effective_modulus) if grid_band else None
         if edge:
             out.append(edge)
         steps = [cohesive_gap_step(r) for r in in_contact]
@@ -616,9 +671,11 @@ def pull_off_statement(summary: Mapping) -> str:
     fired = warning_names(summary.get("warnings") or [])
     cells = summary.get("cohesive_zone_cells")
     zone = f"cohesive zone {cells:.1f} cells wide" if isinstance(cells, (int, float)) else "cohesive zone"
+    grid = ""
     band = summary.get("cohesive_edge")
-    grid = (f", grid band +-{100 * float(band['fraction']):.1f} %"
-            if isinstance(band, Mapping) and band.get("fraction") is not None else "")
+    if isinstance(band, Mapping):
+        grid = (f", grid band +-{100 * float(band['fraction']):.1f} %" if band.get("fraction") is not None
+                else ", grid band not resolved")
     if fired:
         inside.append(f"{zone}{grid}: NOT resolved ({', '.join(fired)}: see the warnings)")
     else:

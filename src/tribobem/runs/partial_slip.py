@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 
 from ..errors import InputError
+from ..units import format_quantity
 from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
 from .common import normal_method, solve_kw
 from .humid_friction import meniscus_fields, run_per_rh
@@ -36,6 +37,10 @@ ONSET_TOLERANCE = 1e-3
 #: Cattaneo-Mindlin (256^2) the stick area is exact (vs a 1e-11 reference) from 1e-6 on.
 TANGENTIAL_TOLERANCE = 1e-7
 COUPLING_TOLERANCE = 1e-6
+#: ``tangential_forces = "auto"``: steps of the ramp (zero included) and its top in units of
+#: mu F0+ (head room over the friction bound; the design chain's defaults).
+AUTO_STEPS = 13
+AUTO_FACTOR = 1.2
 
 
 def _row(res, branch: str, mu: float, e) -> dict:
@@ -105,6 +110,19 @@ def _run_one(pb, bar, interaction, initial, label: str):
     displacements = fr.tangential_displacements
     if forces is None and displacements is None:
         forces = [0.0]
+    if forces == "auto":
+        # F0+ first (the state at F_t = 0, adhesion and menisci included), then the ramp to
+        # AUTO_FACTOR x mu F0+ from that state
+        bar.phase(f"{prefix}state at zero tangential force", 1)
+        zero = tangential_ramp(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, forces=[0.0],
+                               direction=fr.direction, interaction=interaction, slip=fr.slip,
+                               refine_tol=ONSET_TOLERANCE, progress=bar, initial=initial, **solver_kw)
+        if zero.zero_state is None:
+            raise InputError("friction.tangential_forces", f"no equilibrium at zero tangential force: {zero.message}")
+        top = AUTO_FACTOR * mu * zero.zero_state.normal.repulsive_force
+        forces = [top * k / (AUTO_STEPS - 1) for k in range(AUTO_STEPS)]
+        initial = zero.zero_state
+        run_level["tangential_forces_auto"] = forces
     n = len(forces if forces is not None else displacements)
     bar.phase(f"{prefix}tangential steps", n)
     ramp = tangential_ramp(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, forces=forces,
@@ -128,8 +146,19 @@ def _run_one(pb, bar, interaction, initial, label: str):
         run_level["presliding_displacement"] = None
     if math.isfinite(ramp.max_force):
         run_level["max_tangential_force"] = ramp.max_force
+    notes = []
     if ramp.zero_state is not None:
         z = ramp.zero_state
+        if not ramp.gross_slip and mu > 0:
+            # where the ramp would have to go: the friction bound at the state without tangential load
+            est = mu * z.normal.repulsive_force
+            run_level["gross_slip_force_estimate"] = est
+            last = rows[-1]["tangential_force_x"] * e[0] + rows[-1]["tangential_force_y"] * e[1] if rows else 0.0
+            notes.append(f"ramp: no gross slip up to F_t = {format_quantity(last, 'force', 4)}; gross slip sets in "
+                         f"near mu F0+ = {format_quantity(est, 'force', 4)} (F0+ = "
+                         f"{format_quantity(z.normal.repulsive_force, 'force', 4)} at zero tangential force"
+                         + (", menisci included" if z.capillary is not None else "")
+                         + "): extend friction.tangential_forces beyond it, or give tangential_forces = \"auto\"")
         run_level["zero_force_stick_ratio"] = z.tangential.stick_ratio
         run_level["repulsive_force"] = z.normal.repulsive_force
         run_level["adhesive_force"] = z.normal.adhesive_force
@@ -152,7 +181,8 @@ def _run_one(pb, bar, interaction, initial, label: str):
         rows = [_row(z, "zero_force", mu, e)]
         states, labels, indices = [z], ["zero force"], [0]
     out = RunOutput(rows=rows, results=[s.normal for s in states], tangential=[s.tangential for s in states],
-                    labels=labels, indices=indices, run=run_level, step_fields=meniscus_fields(states, model))
+                    labels=labels, indices=indices, run=run_level, step_fields=meniscus_fields(states, model),
+                    warnings=notes)
     return out, ramp.zero_state
 
 
@@ -193,6 +223,9 @@ def check(sc) -> None:
         if fr.tangential_displacements is not None:
             fail("friction.tangential_displacements", "a normal-load path (load.forces) pairs with "
                                                       "tangential_forces only")
+        if fr.tangential_forces == "auto":
+            fail("friction.tangential_forces", "\"auto\" is a ramp to gross slip at one normal force (load.force); "
+                 "a normal-load path (load.forces) pairs with a list of tangential forces")
         for key in fr.tangential_given:
             n_t = len(getattr(fr, key))
             if n_t != len(load.forces):
@@ -209,7 +242,8 @@ KIND = RunKind(
     figures=("load_curve", "friction", "humid_friction", "maps"), report_sections=("friction", "humid_friction"),
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
              "presliding_displacement": "length", "max_tangential_force": "force",
-             "zero_force_stick_ratio": "dimensionless", **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
+             "zero_force_stick_ratio": "dimensionless", "gross_slip_force_estimate": "force",
+             **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
     uses={"load": ("force", "forces"),
           "friction": ("coefficient", "tangential_forces", "tangential_displacements", "direction", "slip"),
           "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker"), "solver": ("method",)},

@@ -20,7 +20,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import ConvergenceWarning, InputError
+from ..errors import ConvergenceWarning, InputError, result_warning_category
 from ..runs import KINDS as RUN_KINDS
 from ..runs import NotImplementedKindError, get_runner
 from .build import Problem, build_problem
@@ -71,6 +71,14 @@ class RunResult:
     def converged(self) -> bool:
         """Whether every step of the run converged (summary.json's ``converged``)."""
         return bool(self.summary.get("converged"))
+
+    @property
+    def warnings(self) -> list[str]:
+        """The run's warnings (summary.json ``warnings``): one ``"check: message"`` line per
+        result check that fired (:mod:`tribobem.output.checks`), and the input's and the
+        runner's notes.  Empty when nothing needs the user's attention.  The same lines are
+        issued as Python warnings (:class:`~tribobem.errors.ResultWarning` subclasses)."""
+        return list(self.summary.get("warnings") or [])
 
     @property
     def steps(self) -> list:
@@ -237,7 +245,8 @@ def _progress_handler(progress, quiet: bool):
     return _Callback(None)
 
 
-def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base_dir=None) -> RunResult:
+def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base_dir=None,
+                 warn: bool = True) -> RunResult:
     """Run a scenario and (optionally) write its result folder.
 
     Parameters
@@ -255,6 +264,10 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         Suppress the progress bar.
     base_dir : path-like, optional
         Folder for relative paths (default: the scenario file's folder / the current one).
+    warn : bool
+        Issue the run's warnings (summary.json ``warnings``, :attr:`RunResult.warnings`) as
+        Python warnings too, one :class:`~tribobem.errors.ResultWarning` subclass per result
+        check (default).  False for callers that show them their own way (sweeps, designs).
 
     Returns
     -------
@@ -287,13 +300,20 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
 
     # Numbers the grid cannot back (edge contact, unresolved cohesive zone, ...): on the states
     # the runner returned (before any fields selection).
+    # The grid's band of Dugdale equilibria (output/checks.py, cohesive_edge): reported on every
+    # Dugdale run without menisci (water's tension is not a two-valued law), warned above
+    # MAX_EDGE_FORCE or where the zone is not resolved.
+    band_defined = pb.humidity is None
     warns += result_warnings(out.results, periodic=pb.grid.periodic, interaction=pb.interaction,
                              radius=pb.info.get("radius"), tangential=out.tangential,
                              files=pb.info.get("files"), gross_slip=out.run.get("gross_slip"),
-                             effective_modulus=pb.info.get("effective_modulus"))
-    # The grid's band of Dugdale equilibria (output/checks.py, cohesive_edge): reported on every
-    # Dugdale run, warned above MAX_EDGE_FORCE.
-    edge_band = cohesive_edge_band(out.results, pb.interaction, pb.info.get("effective_modulus"))
+                             effective_modulus=pb.info.get("effective_modulus"), grid_band=band_defined)
+    edge_band = (cohesive_edge_band(out.results, pb.interaction, pb.info.get("effective_modulus"))
+                 if band_defined else None)
+    # The same lines as Python warnings, one category per check (errors.RESULT_WARNINGS), so that
+    # a script sees them without reading the summary.
+    for w in warns if warn else ():
+        warnings.warn(str(w), result_warning_category(w), stacklevel=2)
     if not converged:
         bad = [i for i, r in enumerate(rows) if not r.get("converged")]
         where = ", ".join(str(i) for i in bad[:10]) + (", ..." if len(bad) > 10 else "")

@@ -280,7 +280,7 @@ def dry_limit_rows(quick: bool = True) -> list[ValidationRow]:
     # The user's path at the kinds' own tolerances: summary["dry"] against RH 0.2.
     d["friction"]["tangential_forces"] = list(np.linspace(0.0, 1.02 * MU * b["F0+ at F_t = 0"], 12))
     d["solver"] = {"tolerance": 1e-10}
-    s = run_scenario(d, outdir=None, progress=False, quiet=True).summary
+    s = run_scenario(d, outdir=None, progress=False, quiet=True, warn=False).summary
     case2 = f"humid_dry_limit {n}^2 run_scenario (coupling tolerance {COUPLING_TOLERANCE:g})"
     for key, label in (("static_friction_force", "static friction force"),
                        ("static_friction_ratio", "onset ratio F_x/(mu F0+)"),
@@ -436,7 +436,7 @@ def loop_energy_rows(quick: bool = True) -> list[ValidationRow]:
     path = d["friction"]["path"]
     N = path["steps"] // 2  # force steps per branch
     case = f"humid_loop_energy {n}^2 (nu = 0.5, RH 0.5, F* = 0.9 mu F0+, {path['steps']} steps per cycle)"
-    res = run_scenario(d, outdir=None, progress=False, quiet=True)
+    res = run_scenario(d, outdir=None, progress=False, quiet=True, warn=False)
     s = res.summary
     humid = [st for st in s["steps"] if st.get("rh") == rh]
     worst = max(abs(st["normal_force"] - FORCE) / FORCE for st in humid)
