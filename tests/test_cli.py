@@ -295,7 +295,8 @@ def test_info_reads_npy_with_size_and_unit(tmp_path):
     rng = np.random.default_rng(3)
     h = rng.normal(size=(64, 32))                      # in nm
     path = _npy(tmp_path, h)
-    r = invoke("info", path, "--size", "10 um,5 um", "--unit", "nm", "--json")
+    # --detrend center: the mean only, so that the rms is numpy's std (the default removes the plane)
+    r = invoke("info", path, "--size", "10 um,5 um", "--unit", "nm", "--detrend", "center", "--json")
     assert r.exit_code == 0, r.output
     d = json.loads(r.stdout)
     assert d["grid"] == [64, 32]
@@ -303,7 +304,8 @@ def test_info_reads_npy_with_size_and_unit(tmp_path):
     assert d["pixel_size"] == pytest.approx([10e-6 / 64, 5e-6 / 32], rel=1e-12)
     assert d["rms_height"] == pytest.approx(np.std(h) * 1e-9, rel=1e-9)   # mean removed ("center")
     # one length: a square scan; the size in another unit than the heights
-    d = json.loads(invoke("info", path, "--size", "0.002 mm", "--unit", "um", "--json").stdout)
+    d = json.loads(invoke("info", path, "--size", "0.002 mm", "--unit", "um", "--detrend", "center",
+                          "--json").stdout)
     assert d["physical_size"] == pytest.approx([2e-6, 2e-6], rel=1e-12)
     assert d["rms_height"] == pytest.approx(np.std(h) * 1e-6, rel=1e-9)
     # what is missing is named with the option that gives it
@@ -321,7 +323,8 @@ def test_nan_correlation_length_comes_with_reason_and_detrend_hint(tmp_path):
     from tribobem.grid import Grid
 
     # short-correlated roughness (rms 1 nm) on a tilt of 100 nm over the scan: with the mean
-    # removed only, the tilt dominates the autocorrelation, which never falls below 10 %
+    # removed only (--detrend center), the tilt dominates the autocorrelation, which never falls
+    # below 10 % (the default, the plane, removes the tilt)
     rng = np.random.default_rng(0)
     n, L = 128, 1e-6
     rough = rng.normal(size=(n, n))
@@ -329,7 +332,7 @@ def test_nan_correlation_length_comes_with_reason_and_detrend_hint(tmp_path):
     x = np.arange(n) / n
     h = rough + 100.0 * x[:, None] + 0.0 * x[None, :]    # nm
     path = _npy(tmp_path, h)
-    args = ("info", path, "--size", "1 um", "--unit", "nm")
+    args = ("info", path, "--size", "1 um", "--unit", "nm", "--detrend", "center")
     d = json.loads(invoke(*args, "--json").stdout)
     assert d["correlation_length"] is None
     note = d["correlation_length_note"]
@@ -417,3 +420,79 @@ def test_run_says_how_many_rows_it_hides_and_whether_expected_was_met(tmp_path):
     assert f"{n - 30} hidden" in r.output and f"{n - 30} of {n} steps hidden above" in r.output
     line = next(ln for ln in r.output.splitlines() if ln.startswith("expected"))
     assert "within 3 %" in line and ": met;" in line and "pull_off_force = " in line and " against -2.5e-07" in line
+
+
+# --------------------------------------------------------------------------------------
+# info on measured scans: the plane removed by default, correlation lengths, --plot
+# --------------------------------------------------------------------------------------
+
+def _tilted_npy(tmp_path, n=64):
+    """Roughness (rms ~1 nm, in nm) with no plane in it, on a tilt of ~60 nm over a 1 um scan."""
+    import numpy as np
+
+    from tribobem.geometry import detrend_heights
+    from tribobem.grid import Grid
+
+    g = Grid(n, n, 1e-6, 1e-6)
+    rough = detrend_heights(np.random.default_rng(4).normal(size=g.shape), g, "height")
+    x = (np.arange(n) + 0.5) / n
+    return _npy(tmp_path, rough + 50.0 * x[:, None] - 30.0 * x[None, :] + 7.0, "tilted.npy"), rough
+
+
+def test_info_default_detrend_is_the_plane(tmp_path):
+    import numpy as np
+
+    path, rough = _tilted_npy(tmp_path)
+    d = json.loads(invoke("info", path, "--size", "1 um", "--unit", "nm", "--json").stdout)
+    assert d["detrend"] == "height"
+    assert d["rms_height"] == pytest.approx(1e-9 * np.sqrt(np.mean(rough**2)), rel=1e-6)
+    assert "correlation_length_note" not in d and d["correlation_length"] is not None
+    c = json.loads(invoke("info", path, "--size", "1 um", "--unit", "nm", "--detrend", "center", "--json").stdout)
+    assert c["rms_height"] > 10 * d["rms_height"]   # the tilt, kept by "center"
+    r = invoke("info", path, "--size", "1 um", "--unit", "nm")
+    assert r.exit_code == 0
+    (row,) = [line for line in r.output.splitlines() if " detrend " in line]
+    assert "height" in row
+
+
+#: tribobem/data/topographies/README.md, plane removed: rms height (m), correlation length (m).
+SHIPPED_PLANE = {
+    "example_ps.tiff": (3.933e-9, 40.00e-9),
+    "di-3.di": (35.22e-9, 1.511e-6),
+    "spot_1-1000nm.ibw": (9.552e-9, 945.2e-9),
+    "plu-1.plu": (18.28e-9, 185.9e-6),
+}
+
+
+@pytest.mark.parametrize("name", sorted(SHIPPED_PLANE))
+def test_info_gives_a_correlation_length_on_each_shipped_file(name):
+    rms, corr = SHIPPED_PLANE[name]
+    d = json.loads(invoke("info", f"data:{name}", "--json").stdout)
+    assert d["rms_height"] == pytest.approx(rms, rel=0.005)
+    assert d["correlation_length"] == pytest.approx(corr, rel=0.005)
+    assert "correlation_length_note" not in d
+    assert d["correlation_length"] < 0.5 * min(d["physical_size"])
+
+
+def test_info_plot_writes_four_pngs_and_a_self_contained_page(tmp_path, monkeypatch):
+    import re
+
+    path, _ = _tilted_npy(tmp_path, n=48)
+    out = tmp_path / "plots"
+    r = invoke("info", path, "--size", "1 um", "--unit", "nm", "--plot", "--out", out)
+    assert r.exit_code == 0, r.output
+    names = ("height_map.png", "height_distribution.png", "psd.png", "acf.png")
+    for name in names:
+        p = out / name
+        assert p.is_file() and p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and p.stat().st_size > 10_000
+        assert str(p) in r.output          # the paths are printed
+    page = (out / "topography.html").read_text(encoding="utf-8")
+    assert str(out / "topography.html") in r.output
+    assert len(re.findall(r"<img [^>]*src='data:image/png;base64,", page)) == 4
+    assert "http://" not in page and "https://" not in page
+    # --json lists them; without --out they go to results/topography_<stem>
+    monkeypatch.chdir(tmp_path)
+    d = json.loads(invoke("info", path, "--size", "1 um", "--unit", "nm", "--plot", "--json").stdout)
+    assert set(d["plots"]) == {"height_map", "height_distribution", "psd", "acf", "html"}
+    assert Path(d["plots"]["html"]) == Path("results") / "topography_tilted" / "topography.html"
+    assert (tmp_path / "results" / "topography_tilted" / "psd.png").is_file()

@@ -27,7 +27,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from .errors import ConvergenceWarning, InputError, MemoryBudgetError, TopographyError
+from .errors import ConvergenceWarning, InputError, MemoryBudgetError, ResultWarning, TopographyError
 
 app = typer.Typer(
     name="tribobem",
@@ -95,8 +95,11 @@ def _stderr() -> Console:
 
 
 @contextmanager
-def _user_errors():
-    """Turn input errors into one red line on stderr and exit code 2."""
+def _user_errors(source: Path | str | None = None):
+    """Turn input errors into one red line on stderr and exit code 2.
+
+    ``source``: the file the command read (a scenario, a sweep or design file), named at the
+    end of the line unless the message already names it."""
     try:
         yield
     except typer.Exit:
@@ -104,8 +107,10 @@ def _user_errors():
     except (InputError, TopographyError, MemoryBudgetError, FileNotFoundError, tomllib.TOMLDecodeError,
             NotImplementedError, PermissionError, IsADirectoryError) as exc:
         text = str(exc) if not isinstance(exc, FileNotFoundError) or not exc.filename else f"{exc.strerror}: {exc.filename}"
-        kind = "memory" if isinstance(exc, MemoryBudgetError) else "error"
-        _stderr().print(f"[bold red]{kind}:[/bold red] [red]{escape(' '.join(str(text).split()))}[/red]")
+        text = " ".join(str(text).split())
+        if source is not None and str(source) not in text:
+            text = f"{text} ({source})"
+        _stderr().print(f"[bold red]error:[/bold red] [red]{escape(text)}[/red]")
         raise typer.Exit(EXIT_INPUT) from None
 
 
@@ -226,7 +231,10 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
                           f"[/bold] = {summary['static_friction_ratio']:.4f} \u03bc F0+ (\u03bc = {mu:g}); pre-sliding "
                           f"displacement {format_quantity(summary.get('presliding_displacement'), 'length', 4)}")
         elif summary.get("gross_slip") is False:
-            console.print(f"no gross slip along the ramp (\u03bc = {mu:g}); the largest step keeps a stick zone")
+            console.print(f"no gross slip along the ramp (\u03bc = {mu:g}); the largest step keeps a stick zone "
+                          "(the warning below says where gross slip sets in)")
+        if not isinstance(summary.get("rh"), list):
+            _print_loop(summary, console)
     if isinstance(summary.get("pull_off_force"), list):  # a humid pull-off: one per RH
         console.print("pull-off force: " + ", ".join(
             f"[bold]{format_quantity(s.get('pull_off_force'), 'force', 4)}[/bold] at RH {s.get('rh'):g}"
@@ -247,6 +255,22 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         report = Path(outdir) / "report.html"
         console.print(f"results in [bold]{escape(str(outdir))}[/bold]"
                       + (f"; report: [bold]{escape(str(report))}[/bold]" if report.exists() else ""))
+
+
+def _print_loop(summary: dict, console: Console) -> None:
+    """A hysteresis run's loop energy per cycle and K_L at Paper F's points A, B, C."""
+    from .units import format_quantity
+
+    energy = [e for e in (summary.get("dissipated_energy") or []) if isinstance(e, (int, float))]
+    if energy:
+        console.print("loop energy per cycle: " + ", ".join(
+            f"[bold]{format_quantity(e, 'energy', 4)}[/bold]" for e in energy))
+    table = [t for t in (summary.get("lateral_stiffness") or []) if isinstance(t, dict)]
+    if table:
+        console.print("lateral stiffness K_L (last rising branch): " + ", ".join(
+            f"{t.get('point')} [bold]{_stiffness(t.get('stiffness'))}[/bold]" for t in table))
+    elif summary.get("lateral_stiffness_error"):
+        console.print(f"lateral stiffness K_L: not computed ({escape(str(summary['lateral_stiffness_error']))})")
 
 
 def _print_humid_friction(summary: dict, console: Console) -> None:
@@ -307,7 +331,9 @@ def _run(scenario, out: Path, quiet: bool, as_json: bool, base_dir=None) -> dict
     from .scenario import run_scenario
 
     with warnings.catch_warnings():
+        # printed below from the summary, in every output mode: not twice
         warnings.simplefilter("ignore", ConvergenceWarning)
+        warnings.simplefilter("ignore", ResultWarning)
         result = run_scenario(scenario, outdir=out, progress=not (quiet or as_json), quiet=quiet or as_json,
                               base_dir=base_dir)
     summary = result.summary
@@ -319,8 +345,19 @@ def _run(scenario, out: Path, quiet: bool, as_json: bool, base_dir=None) -> dict
         _print_summary(summary, out, _stdout())
     else:
         _stdout().print(str(Path(out) / "report.html") if (Path(out) / "report.html").exists() else str(out))
+    if quiet or as_json:
+        # --quiet and --json hide the progress and the tables, never what the user must read: the
+        # warnings and the expected line go to stderr (stdout stays the path, or the JSON).
+        _print_notices(summary, _stderr())
     _warn_nonconverged(summary, quiet)
     return summary
+
+
+def _print_notices(summary: dict, console: Console) -> None:
+    """The run's warnings and its expected line (what every output mode prints)."""
+    for w in summary.get("warnings") or []:
+        console.print(f"[bold yellow]warning:[/bold yellow] {escape(str(w))}")
+    _print_expected(summary.get("expected"), console)
 
 
 # ----------------------------------------------------------------------------- demo
@@ -378,7 +415,7 @@ def run(
     as_json: bool = typer.Option(False, "--json/--no-json", help="Print summary.json to stdout."),
 ):
     """Run a scenario file and write summary.json, fields.nc, figures and report.html."""
-    with _user_errors():
+    with _user_errors(scenario):
         if not scenario.exists():
             raise FileNotFoundError(f"scenario file {scenario} not found")
         outdir = out if out is not None else Path("results") / scenario.stem
@@ -397,7 +434,7 @@ def sweep(
     as_json: bool = typer.Option(False, "--json/--no-json", help="Print the sweep result as JSON."),
 ):
     """Run a scenario over a grid of parameters (Dask; resumable: finished points are kept)."""
-    with _user_errors():
+    with _user_errors(sweep_file):
         from .sweep import sweep_command
 
         if not sweep_file.exists():
@@ -425,7 +462,7 @@ def design(
     as_json: bool = typer.Option(False, "--json/--no-json", help="Print the design result and ranking as JSON."),
 ):
     """Rank design variants: normal, pull-off, tangential ramp (and hysteresis) per point; table and report."""
-    with _user_errors():
+    with _user_errors(design_file):
         from .design import design_command
 
         if not design_file.exists():
@@ -531,12 +568,17 @@ def info(
                                                 "(e.g. data:example_ps.tiff; folder: $TRIBOBEM_DATA_DIR if set)."),
     as_json: bool = typer.Option(False, "--json/--no-json", help="Print the statistics as JSON."),
     channel: Optional[str] = typer.Option(None, "--channel", help="Channel name or index."),
-    detrend: str = typer.Option("center", "--detrend", help="none | center | height | curvature"),
+    detrend: str = typer.Option("height", "--detrend", help="height (the least-squares plane, the default) | "
+                                                              "center (the mean only) | curvature | none"),
     unit: Optional[str] = typer.Option(None, "--unit", help="Length unit of the heights, for files that do not "
                                                               "store one (.npy, text), e.g. nm."),
     size: Optional[str] = typer.Option(None, "--size", help="Physical size of the scan, for files that do not store "
                                                               "it (.npy, text): 'L' (square) or 'LX,LY', with units, "
                                                               "e.g. '10 um' or '10 um,5 um'."),
+    plot: bool = typer.Option(False, "--plot/--no-plot", help="Also write PNGs of the height map, height "
+                                                               "distribution, PSD and ACF, and an HTML page of them."),
+    out: Optional[Path] = typer.Option(None, "--out", "-o", help="Folder of the --plot files (default: "
+                                                                 "results/topography_<file stem>; implies --plot)."),
 ):
     """Read a measured topography and print its size and statistics (SI after detrending)."""
     with _user_errors():
@@ -568,6 +610,13 @@ def info(
         }
         if note:
             record["correlation_length_note"] = note
+        plots = {}
+        if plot or out is not None:
+            from .output.topography import write_topography_plots
+
+            outdir = out if out is not None else Path("results") / f"topography_{topography.stem}"
+            plots = write_topography_plots(topo.heights, g, outdir, title=topography.name, detrend=detrend)
+            record["plots"] = {k: str(v) for k, v in plots.items()}
         if as_json:
             from .output.summary import jsonable
 
@@ -590,7 +639,8 @@ def info(
             ("rms curvature", f"{st.get('rms_curvature', float('nan')):.4g} 1/m"),
             ("skewness", f"{st.get('skewness', float('nan')):.4g}"),
             ("kurtosis", f"{st.get('kurtosis', float('nan')):.4g}"),
-            ("correlation length", format_quantity(corr, "length") if corr == corr else "nan (see the note below)"),
+            ("correlation length (ACF 10 %)", format_quantity(corr, "length") if corr == corr
+             else "nan (see the note below)"),
             ("peak to valley", format_quantity(st.get("peak_to_valley"), "length")),
         ]
         if record["filled_points"]:
@@ -601,6 +651,8 @@ def info(
         console.print(table)
         if note:
             console.print(f"[bold yellow]note:[/bold yellow] {escape(note)}")
+        for name, path in plots.items():
+            console.print(f"{name}: {escape(str(path))}")
 
 
 def _parse_size(size: str | None) -> tuple[float, float] | None:
@@ -627,14 +679,12 @@ def _parse_size(size: str | None) -> tuple[float, float] | None:
 def _read_for_info(path: Path, channel, detrend: str, unit: str | None, size_m: tuple[float, float] | None):
     """Read a topography for ``info``, with ``--size`` in SI and the CLI's names in the errors."""
     from .geometry import read_topography
-    from .geometry.topography import unit_to_metres
 
-    def read(physical_sizes):
+    def read(size):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
-                return read_topography(path, channel=channel, detrend=detrend, unit=unit,
-                                       physical_sizes=physical_sizes)
+                return read_topography(path, channel=channel, detrend=detrend, unit=unit, size=size)
             except TopographyError as exc:
                 if exc.field == "topography.physical_sizes":
                     raise TopographyError(exc.field, f"{str(exc).split(': ', 1)[-1].rstrip('. ')}; give the scan's size with "
@@ -644,13 +694,7 @@ def _read_for_info(path: Path, channel, detrend: str, unit: str | None, size_m: 
                                           "it with --unit, e.g. --unit nm") from None
                 raise
 
-    if size_m is None:
-        return read(None)
-    # read_topography takes the sizes in the heights' unit: --unit, else the file's own
-    # (read once with placeholder sizes to learn it; heights do not depend on the sizes).
-    file_unit = unit if unit is not None else read((1.0, 1.0)).info.get("original_unit")
-    factor = unit_to_metres(file_unit, "info.unit")
-    return read(tuple(s / factor for s in size_m))
+    return read(size_m)
 
 
 def _correlation_note(topo, detrend: str, stats: dict) -> str | None:
@@ -668,9 +712,11 @@ def _correlation_note(topo, detrend: str, stats: dict) -> str | None:
     if not stats.get("rms_height"):
         return "correlation length nan: the surface is flat (rms height 0) after detrending"
     half = format_quantity(min(g.lx, g.ly) / 2, "length")
+    # the trends --detrend {detrend} leaves in the heights
+    left = {"none": "offset, tilt, curvature", "center": "tilt, curvature"}.get(detrend, "curvature")
     reason = (f"correlation length nan: the height autocorrelation does not fall below 10 % of its peak within "
-              f"half the scan ({half}); with --detrend {detrend} the heights are dominated by a trend (tilt, "
-              "curvature) or by wavelengths longer than the scan")
+              f"half the scan ({half}); with --detrend {detrend} the heights are dominated by a trend ({left}) "
+              "or by wavelengths longer than the scan")
     # Stronger detrending removes more of the trend: try the modes after the current one.
     order = list(DETREND_MODES)
     later = order[order.index(detrend) + 1:] if detrend in order else order

@@ -15,6 +15,15 @@ TOPOGRAPHY_FILES = {
     "plu-1.plu": ((768, 576), (1274.9e-6, 956.2e-6), 2.834e-6, 0.00898),
 }
 
+#: Values of the same README after the default detrend("height") (the least-squares plane): rms
+#: height (m), rms slope (-), correlation length (m; the radial ACF's 10 % level).
+TOPOGRAPHY_PLANE = {
+    "example_ps.tiff": (3.933e-9, 0.385, 40.00e-9),
+    "di-3.di": (35.22e-9, 0.1923, 1.511e-6),
+    "spot_1-1000nm.ibw": (9.552e-9, 0.06069, 945.2e-9),
+    "plu-1.plu": (18.28e-9, 0.004626, 185.9e-6),
+}
+
 
 @pytest.fixture(scope="session")
 def topography_dir() -> Path:

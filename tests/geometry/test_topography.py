@@ -18,15 +18,16 @@ from tribobem.geometry import (
 )
 from tribobem.grid import Grid
 
-from .conftest import TOPOGRAPHY_FILES
+from .conftest import TOPOGRAPHY_FILES, TOPOGRAPHY_PLANE
 
 UNITS = {"example_ps.tiff": "µm", "di-3.di": "nm", "spot_1-1000nm.ibw": "m", "plu-1.plu": "µm"}
 
 
 @pytest.fixture(scope="module")
 def measured(topography_dir):
-    """Each example file read once (detrend center)."""
-    return {name: read_topography(topography_dir / name) for name in TOPOGRAPHY_FILES}
+    """Each example file read once with only the mean removed (detrend center: the README's
+    first rms column)."""
+    return {name: read_topography(topography_dir / name, detrend="center") for name in TOPOGRAPHY_FILES}
 
 
 # ----------------------------------------------------------------------------- the example files
@@ -230,3 +231,74 @@ def test_combine_gap():
         combine_gap(np.zeros((8, 8)), np.zeros((8, 4)))
     with pytest.raises(InputError, match="gap.upper_shape"):
         gap_from_bodies(g, upper_shape=np.zeros((4, 4)))
+
+
+# ----------------------------------------------------------------------------- default detrend: the plane
+def _tilted_scan(tmp_path, n=(48, 40), size=(2e-6, 1.6e-6)):
+    """A rough surface (rms ~1 nm) orthogonal to every plane, plus a tilt of ~100 nm over the scan,
+    saved as .npy in m. Returns (path, untilted heights, grid)."""
+    g = Grid(n[0], n[1], size[0], size[1])
+    rough = 1e-9 * np.random.default_rng(7).standard_normal(g.shape)
+    rough = detrend_heights(rough, g, "height")   # no plane left in it: the plane fit leaves it as is
+    X, Y = g.meshgrid()
+    h = rough + 0.05 * X - 0.02 * Y + 3e-8
+    path = tmp_path / "tilted.npy"
+    np.save(path, h)
+    return path, rough, g
+
+
+def test_read_default_detrend_is_the_plane(tmp_path):
+    path, rough, g = _tilted_scan(tmp_path)
+    t = read_topography(path, physical_sizes=(g.lx, g.ly), unit="m")
+    assert t.info["detrend"] == "height" and t.info["history"][-1] == "detrend(height)"
+    assert rms_height(t.heights) == pytest.approx(rms_height(rough), rel=1e-6)
+    assert np.allclose(t.heights, rough, rtol=0, atol=1e-6 * rms_height(rough))
+    # "center" is still there, and keeps the tilt: rms about 30 x larger
+    c = read_topography(path, physical_sizes=(g.lx, g.ly), unit="m", detrend="center")
+    assert rms_height(c.heights) > 20 * rms_height(rough)
+
+
+def test_scenario_file_roughness_default_detrend_is_the_plane(tmp_path):
+    from tribobem.scenario import build_problem, parse_scenario
+    from tribobem.scenario.schema import FileRoughness
+
+    assert FileRoughness.model_fields["detrend"].default == "height"
+    path, rough, g = _tilted_scan(tmp_path, n=(32, 32), size=(1e-6, 1e-6))
+    sc = {
+        "kind": "normal",
+        "grid": {"n": 32, "periodic": False},
+        "body1": {"E": "3 GPa", "nu": 0.35,
+                  "roughness": {"kind": "file", "path": path.name, "unit": "m", "physical_size": ["1 um", "1 um"]}},
+        "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "10 um"}},
+        "load": {"force": "1 uN"},
+    }
+    prob = build_problem(parse_scenario(sc), base_dir=tmp_path)
+    assert prob.grid.shape == (32, 32) and prob.grid.lx == pytest.approx(1e-6)
+    assert rms_height(prob.roughness1) == pytest.approx(rms_height(rough), rel=1e-6)
+    sc["body1"]["roughness"]["detrend"] = "center"
+    # only the mean removed: the tilt (+-25 nm over the 1 um scan) stays, rms about 16 x larger
+    assert rms_height(build_problem(parse_scenario(sc), base_dir=tmp_path).roughness1) > 10 * rms_height(rough)
+
+
+@pytest.mark.parametrize("name", sorted(TOPOGRAPHY_PLANE))
+def test_shipped_files_plane_detrended(topography_dir, name):
+    """With the plane removed (the default), every shipped scan has a finite correlation length
+    (the radial ACF falls below 10 % within half the scan), where only the mean removed left
+    three of them (di-3, spot_1-1000nm, plu-1) tilt-dominated, without one."""
+    from tribobem.geometry.stats import acf, correlation_length
+
+    rms, slope, corr = TOPOGRAPHY_PLANE[name]
+    t = read_topography(topography_dir / name)
+    s = t.stats()
+    assert s["rms_height"] == pytest.approx(rms, rel=0.005)
+    assert s["rms_slope"] == pytest.approx(slope, rel=0.02)
+    assert s["correlation_length"] == pytest.approx(corr, rel=0.005)
+    assert s["correlation_length"] < 0.5 * min(t.grid.lx, t.grid.ly)
+    # the definition: the normalised ACF is above 10 % before it and below just after it
+    r, R = acf(t.heights, t.grid)
+    rho = R / R[0]
+    assert np.all(rho[r < s["correlation_length"]] > 0.1)
+    assert rho[np.searchsorted(r, s["correlation_length"])] < 0.1
+    if name != "example_ps.tiff":  # that scan is flattened already: the mean alone leaves no tilt
+        assert np.isnan(correlation_length(read_topography(topography_dir / name, detrend="center").heights,
+                                           t.grid))

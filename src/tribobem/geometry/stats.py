@@ -369,13 +369,24 @@ def correlation_length(h, grid: Grid, threshold: float = 0.1) -> float:
         Grid of ``h``.
     threshold : float
         Level in (0, 1) of ``R(r)/R(0)``; 0.1 is the definition of Hu and Tonder (1992)
-        used by :func:`tribobem.geometry.gaussian_surface`.
+        used by :func:`tribobem.geometry.gaussian_surface` (so a generated surface reads
+        back its input). Other conventions are a level away: ``1/e`` (the decay length of an
+        exponential ACF, which is ``ln 10 = 2.30`` times shorter than its 10 % length) and
+        0.2, the level of ISO 25178's autocorrelation length *Sal* (which takes the
+        shortest direction of the 2D ACF, where this takes the radial mean).
 
     Returns
     -------
     float
         Correlation length (m), linearly interpolated between ACF bins; NaN if the ACF does
         not drop below ``threshold`` within ``min(lx, ly)/2`` or the surface is flat.
+
+    Notes
+    -----
+    A tilt or a curvature left in the heights keeps the ACF high at every lag (a plane
+    ``h = s x`` has ``R(r)/R(0)`` near 1 for ``r`` much shorter than the scan), so on a
+    measured scan with only its mean removed this is often NaN: remove the plane first
+    (``detrend="height"``, the default of :func:`tribobem.geometry.read_topography`).
     """
     if not (0.0 < threshold < 1.0):
         raise InputError("stats.threshold", f"must be in (0, 1), got {threshold!r}")

@@ -384,11 +384,12 @@ def _select_channel(reader, channel, path):
 def read_topography(
     path,
     channel=None,
-    detrend: str = "center",
+    detrend: str = "height",
     fill: str = "harmonic",
     periodic: bool = False,
     physical_sizes=None,
     unit: str | None = None,
+    size=None,
 ) -> Topography:
     """Read a measured topography file through SurfaceTopography and convert it to SI.
 
@@ -402,7 +403,11 @@ def read_topography(
         (for multi-channel AFM files the first height channel, e.g. ``HeightTrace`` in an
         Asylum .ibw).
     detrend : {"none", "center", "height", "curvature"}
-        Trend removed after filling (see :func:`detrend_heights`).
+        Trend removed after filling (see :func:`detrend_heights`). Default ``"height"``: the
+        least-squares plane, as is conventional for a measured scan, whose tilt (the sample's
+        mounting, the scanner's drift) is no part of the roughness. ``"center"`` removes only
+        the mean and keeps the tilt (on a tilted scan the rms height is then mostly tilt and
+        the correlation length often undefined).
     fill : {"harmonic", "none"}
         Undefined (masked) points are filled by harmonic interpolation
         (SurfaceTopography ``interpolate_undefined_data``); ``"none"`` raises instead.
@@ -412,6 +417,9 @@ def read_topography(
         Side lengths, in ``unit`` (or the file's unit), for files that do not store them.
     unit : str, optional
         Length unit for files that do not store one (e.g. ``"nm"``).
+    size : (float, float), optional
+        Side lengths in metres, for files that do not store them: the alternative to
+        ``physical_sizes`` (converted to the heights' unit, ``unit`` or the file's own).
 
     Returns
     -------
@@ -451,6 +459,13 @@ def read_topography(
     try:
         ch = _select_channel(reader, channel, p)
         kwargs = {"channel_index": ch.index, "periodic": bool(periodic)}
+        if size is not None and physical_sizes is None:
+            size_unit = unit if unit is not None else getattr(ch, "unit", None)
+            if size_unit is None or isinstance(size_unit, (tuple, list)):
+                raise TopographyError("topography.unit", f"{p} does not say the length unit of its heights, "
+                                      "needed to read its size; pass unit= (e.g. unit='nm')")
+            f = unit_to_metres(size_unit)
+            physical_sizes = tuple(float(s) / f for s in size)
         if physical_sizes is not None:
             kwargs["physical_sizes"] = tuple(float(s) for s in physical_sizes)
         if unit is not None:
