@@ -213,3 +213,123 @@ static_friction_force = { min = "1 uN" }
     assert (tmp_path / "out" / "design_report.html").is_file()
     r = CliRunner().invoke(app, ["design", str(tmp_path / "missing.toml")])
     assert r.exit_code == 2
+
+
+# --------------------------------------------------------------------------- humid points
+HUMID_BASE = {
+    "name": "burl on wafer, humid",
+    "grid": {"n": 32, "size": "1.6 um"},
+    "body1": {"name": "Si wafer", "E": "130 GPa", "nu": 0.28, "film": {"isotherm": "Si"},
+              "roughness": {"kind": "gaussian", "rms": "0.5 nm", "correlation_length": "0.1 um", "seed": 7}},
+    "body2": {"name": "SiC burl", "E": "410 GPa", "nu": 0.14, "film": {"isotherm": "SiO2"},
+              "shape": {"kind": "burl", "radius": "0.3 um", "edge_radius": "10 um"}},
+    "load": {"force": "2 uN"},
+    "friction": {"coefficient": 0.3},
+    "humidity": {"rh": 0.5, "van_der_waals": False},
+}
+
+
+@pytest.fixture(scope="module")
+def humid(tmp_path_factory):
+    """Two humid points (RH 0.3, 0.7) and a dry one on a 32^2 burl, with the ramp summaries
+    the chain saw (stage scenario's RH -> summary), run once."""
+    import tribobem.design.chain as chain
+
+    out = tmp_path_factory.mktemp("humid")
+    design = DesignSpec.from_dict({"name": "humid", "base": HUMID_BASE,
+                                   "parameters": {"humidity.rh": [0.3, 0.7, "dry"]},
+                                   "chain": {"hysteresis": False}})
+    ramps, real = {}, chain._run
+
+    def recording(sc, base_dir):
+        s = real(sc, base_dir)
+        if sc["kind"] == "partial_slip":  # the last ramp of a point is the one it reads
+            ramps[sc["humidity"]["rh"] if "humidity" in sc else "dry"] = s
+        return s
+
+    mp = pytest.MonkeyPatch()
+    mp.setattr(chain, "_run", recording)
+    try:
+        res = run_design(design, out, scheduler="synchronous", progress=False, quiet=True)
+    finally:
+        mp.undo()
+    return res, ramps, out
+
+
+def test_humid_columns_hold_the_humid_state_at_zero_tangential_load(humid):
+    res, ramps, out = humid
+    rows = {r["point"]["humidity.rh"]: r for r in res.rows}
+    assert all(r["status"] == "ok" for r in rows.values())
+    for rh in (0.3, 0.7):
+        r, step0 = rows[rh], ramps[rh]["steps"][0]
+        assert step0["rh"] == rh and abs(step0["tangential_force_x"]) < 1e-15  # the ramp's F_t = 0 state
+        for k in ("contact_area", "max_pressure", "repulsive_force", "capillary_force"):
+            assert r[k] == pytest.approx(step0[k], rel=1e-12, abs=0), (rh, k)
+        # the menisci pull: F0+ exceeds the 2 uN clamp load by at least 90 % of the meniscus force
+        assert r["capillary_force"] < -1e-6
+        assert r["repulsive_force"] > 2e-6 + 0.9 * abs(r["capillary_force"])
+        assert r["contact_area"] > 3 * rows["dry"]["contact_area"]  # 32^2: 18x (RH 0.7) and 28x (RH 0.3)
+    a, b = rows[0.3], rows[0.7]
+    assert abs(a["contact_area"] - b["contact_area"]) > 0.1 * b["contact_area"]
+    assert abs(a["repulsive_force"] - b["repulsive_force"]) > 0.1 * b["repulsive_force"]
+    # the dry point: its normal stage at the clamp load, no menisci
+    d = rows["dry"]
+    assert d["capillary_force"] == 0.0 and d["repulsive_force"] == pytest.approx(2e-6, rel=1e-6, abs=0)
+    # the table files and the report carry the columns
+    header = (out / "design.csv").read_text().splitlines()[0].split(",")
+    assert "capillary_force" in header and "repulsive_force" in header
+    import re
+
+    html = (out / "design_report.html").read_text()
+    assert re.search(r"<th[^>]*>\s*F_cap", html) and "first state of its humid tangential ramp" in html
+    # the automatic ramp's first pass (to 1.2 mu x clamp load) ends short of the menisci's F0+: its
+    # "no gross slip" note is superseded by the second pass, which reaches gross slip
+    for rh in (0.3, 0.7):
+        r = rows[rh]
+        if r["static_friction_force"] == r["static_friction_force"]:  # the second pass reached gross slip
+            assert "no gross slip" not in (r.get("warnings") or ""), r.get("warnings")
+
+
+def test_humid_point_with_a_ramp_not_starting_at_zero_still_has_its_zero_load_state(humid, tmp_path):
+    res, _, _ = humid
+    ref = next(r for r in res.rows if r["point"]["humidity.rh"] == 0.7)
+    design = DesignSpec.from_dict({"name": "humid list", "base": HUMID_BASE, "parameters": {"humidity.rh": [0.7]},
+                                   "chain": {"hysteresis": False, "pulloff": False,
+                                             "tangential_forces": ["2 uN", "4 uN"]}})
+    r = run_design(design, tmp_path, scheduler="synchronous", progress=False, quiet=True).rows[0]
+    assert r["status"] == "ok"
+    for k in ("contact_area", "max_pressure", "repulsive_force", "capillary_force"):
+        assert r[k] == pytest.approx(ref[k], rel=1e-6, abs=0), k
+    assert r["ramp_max_force"] == pytest.approx(4e-6, rel=1e-12, abs=0)
+
+
+def test_cli_design_progress_off_a_terminal_is_one_line_per_point(tmp_path):
+    import re
+
+    from typer.testing import CliRunner
+
+    from tribobem.cli import app
+
+    f = tmp_path / "d.toml"
+    f.write_text("""
+[base]
+grid = { n = 16, size = "1.6 um" }
+body1 = { E = "70 GPa", nu = 0.3 }
+body2 = { rigid = true, shape = { kind = "sphere", radius = "10 um" } }
+load = { force = "10 uN" }
+friction = { coefficient = 0.3 }
+[parameters]
+"load.force" = ["5 uN", "8 uN"]
+[chain]
+hysteresis = false
+""")
+    args = ["design", str(f), "-o", str(tmp_path / "out"), "--scheduler", "synchronous"]
+    r = CliRunner().invoke(app, args)  # output captured: not a terminal
+    assert r.exit_code == 0, r.output
+    lines = [ln for ln in r.stderr.splitlines() if ln.startswith("point ")]
+    assert len(lines) == 2, r.stderr
+    for k, (ln, force) in enumerate(zip(lines, ("5 uN", "8 uN")), start=1):
+        assert re.fullmatch(rf"point {k} of 2 done: load\.force = {force} \(\d+\.\d s\)", ln), ln
+    assert "0 of 2 points done, running 2" in r.stderr
+    r = CliRunner().invoke(app, [*args[:3], str(tmp_path / "out2"), *args[4:], "--quiet"])
+    assert r.exit_code == 0 and r.stderr == "", r.stderr  # --quiet: no progress, no messages

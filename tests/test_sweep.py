@@ -355,3 +355,62 @@ def test_sweep_recomputes_after_a_solver_change_and_only_then(tmp_path, monkeypa
     monkeypatch.setattr(sv, "SOLVER_VERSION", sv.SOLVER_VERSION + 1)   # results of the solver changed
     assert sweep()["n_run"] == 3 and len(list(calls.iterdir())) == 9
     sys.modules.pop("sweeppoint", None)
+
+
+_LINE = r"point (\d+) of (\d+) (done|failed): x = (\d), y = (\d+) \((\d+\.\d) s\)(: .*)?"
+
+
+def _progress_lines(err: str) -> list[tuple]:
+    import re
+
+    return [re.fullmatch(_LINE, ln).groups() for ln in err.splitlines() if re.fullmatch(_LINE, ln)]
+
+
+def test_progress_off_a_terminal_is_one_line_per_finished_point(tmp_path, capsys):
+    out, counter, flag = tmp_path / "out", tmp_path / "calls", tmp_path / "armed"
+    flag.write_text("1")
+    func = make_func(counter, fail_x=2, flag=flag)
+    order = [(o["x"], o["y"]) for _, o in SweepSpec.from_dict(SPEC).tasks()]
+    res = run_sweep(SPEC, out, scheduler="synchronous", func=func, progress=True, quiet=False)
+    assert res.n_failed == 2
+    err = capsys.readouterr().err  # captured: not a terminal, so no live bar
+    lines = _progress_lines(err)
+    assert [(int(a), int(b)) for a, b, *_ in lines] == [(k, 6) for k in range(1, 7)]  # one per point, in order
+    assert [(int(x), int(y)) for *_, x, y, _, _ in lines] == order
+    assert [st for _, _, st, *_ in lines] == ["done", "done", "failed", "failed", "done", "done"]
+    assert lines[2][6] == ": ValueError: x = 2 is not allowed today"
+    assert "points done, running 6" in err and err.count("not allowed today") == 2  # no second failure message
+    # a rerun numbers on from the points already done
+    flag.unlink()
+    run_sweep(SPEC, out, scheduler="synchronous", func=func, progress=True, quiet=False)
+    lines = _progress_lines(capsys.readouterr().err)
+    assert [(int(a), st, int(x), int(y)) for a, _, st, x, y, *_ in lines] == [(5, "done", 2, 10), (6, "done", 2, 20)]
+
+
+def test_progress_quiet_prints_nothing_and_a_terminal_gets_the_bar(tmp_path, capsys):
+    import io
+
+    from rich.console import Console
+
+    from tribobem.sweep.execute import _Progress
+
+    run_sweep(SPEC, tmp_path / "q", scheduler="synchronous", func=make_func(tmp_path / "c"), progress=True,
+              quiet=True)
+    assert capsys.readouterr().err == ""
+    f = tmp_path / "s.toml"
+    f.write_text('function = "builtins:dict"\nscheduler = "synchronous"\n[base]\nc = 1\n[parameters]\nx = [1, 2]\n')
+    assert sweep_command(str(f), out=str(tmp_path / "o"), quiet=True) == 0
+    assert capsys.readouterr().err == ""
+    assert sweep_command(str(f), out=str(tmp_path / "o2")) == 0
+    err = capsys.readouterr().err
+    assert "point 1 of 2 done: x = 1 (" in err and "point 2 of 2 done: x = 2 (" in err
+    term = _Progress(True, 3, "t", console=Console(file=io.StringIO(), force_terminal=True))
+    try:
+        assert term.bar is not None and not term.lines
+    finally:
+        term.close()
+    buf = io.StringIO()
+    log = _Progress(True, 2, "t", offset=1, n_points=3, console=Console(file=buf, force_terminal=False))
+    assert log.bar is None and log.lines
+    log.advance({"status": "ok", "point": {"a": "1 um"}, "elapsed": 12.34})
+    assert buf.getvalue() == "point 2 of 3 done: a = 1 um (12.3 s)\n"

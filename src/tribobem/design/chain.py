@@ -14,9 +14,11 @@ Every stage is a scenario dict made from the point's scenario with ``kind`` chan
 sections and keys the kind does not read (:meth:`tribobem.runs.RunKind.reads`) left out, run
 by :func:`tribobem.scenario.run_scenario` without an output folder.  With ``[humidity]``
 (one RH per point; ``humidity.rh = "dry"`` leaves humidity and the films out) the humid kinds
-return run-level lists in RH order, of which the point takes element 0; the normal stage is
-then dry, and the contact area and max pressure come from the ramp's state at zero tangential
-load (menisci included).
+return run-level lists in RH order, of which the point takes element 0.  The normal stage of a
+humid point is dry (kind ``normal`` has no menisci), so its contact area, max pressure,
+repulsive force F0+ and capillary force are those of the humid ramp's first state: the clamp
+load at zero tangential load with the menisci of the point's RH (the chain's ramps start at
+F_t = 0).  A dry point takes them from the normal stage (capillary force 0 N).
 
 :class:`DesignPointRunner` is the callable :func:`tribobem.sweep.run_sweep` runs on each point
 (``func``): it returns the point's scalars (the sweep's record) and writes the point's full
@@ -54,10 +56,15 @@ VALUE_KEYS = {
     "lateral_stiffness_B": ("stiffness", "lateral stiffness K_L at Paper F's point B, F_x = 0 (N/m)"),
     "lateral_stiffness_C": ("stiffness", "lateral stiffness K_L at Paper F's point C, F_x = 0.5 mu F0+ (N/m)"),
     "pull_off_force": ("force", "pull-off force from the clamp load (N, negative: tensile)"),
-    "contact_area": ("area", "real contact area at the clamp load (m^2)"),
-    "max_pressure": ("pressure", "max contact pressure at the clamp load (Pa)"),
+    "contact_area": ("area", "real contact area at the clamp load and zero tangential load (m^2; humid: "
+                             "with the menisci, the humid ramp's first state)"),
+    "max_pressure": ("pressure", "max contact pressure at the clamp load and zero tangential load (Pa; humid: "
+                                 "with the menisci)"),
     "peak_pressure": ("pressure", "max contact pressure over every state of the chain (Pa)"),
-    "repulsive_force": ("force", "repulsive (compressive) force F0+ at the clamp load (N)"),
+    "repulsive_force": ("force", "repulsive (compressive) force F0+ at the clamp load and zero tangential load "
+                                 "(N; humid: clamp load plus what the menisci pull)"),
+    "capillary_force": ("force", "meniscus (Laplace) force at the clamp load and zero tangential load (N, "
+                                 "negative: tensile; 0 for a dry point)"),
     "clamp_load": ("force", "the normal (clamp) load (N)"),
     "friction_coefficient": ("dimensionless", "local friction coefficient mu"),
     "ramp_max_force": ("force", "the last tangential force of the ramp (N)"),
@@ -185,7 +192,7 @@ def stage_scenario(scenario: Mapping, kind: str, load: Mapping | None = None, fr
 def _run(scenario: dict, base_dir):
     from ..scenario import run_scenario  # deferred: solvers and outputs load on the worker
 
-    kw = {"outdir": None, "progress": False, "quiet": True}
+    kw = {"outdir": None, "progress": False, "quiet": True, "warn": False}  # warnings: the design's table
     if base_dir:
         kw["base_dir"] = base_dir
     return run_scenario(scenario, **kw).summary
@@ -197,10 +204,20 @@ def _rows_max(summary: Mapping, key: str = "max_pressure") -> float:
     return max(vals) if vals else math.nan
 
 
-def _zero_load_row(summary: Mapping) -> Mapping | None:
-    for r in summary.get("steps") or []:
-        if isinstance(r, Mapping) and r.get("tangential_force_x", 1.0) == 0.0 and r.get("tangential_force_y", 0.0) == 0.0:
-            return r
+def _zero_load_row(summary: Mapping, forces) -> Mapping | None:
+    """The ramp's row at zero tangential load, or None.
+
+    The solved tangential force of that state is zero only to round-off (1e-23 N, not 0.0),
+    so the row is found by its place: the first row of a ramp whose first requested force is
+    0, or the ``zero_force`` row a ramp reports when its first force already slides.
+    """
+    rows = [r for r in summary.get("steps") or [] if isinstance(r, Mapping)]
+    if not rows:
+        return None
+    if rows[0].get("branch") == "zero_force":
+        return rows[0]
+    if forces and float(forces[0]) == 0.0 and rows[0].get("branch") == "ramp":
+        return rows[0]
     return None
 
 
@@ -268,9 +285,12 @@ def run_chain(scenario: Mapping, chain: Mapping, base_dir=None) -> dict:
                             "converged": None}
     else:
         last = (s.get("steps") or [{}])[-1]
-        values["contact_area"] = _num(last.get("contact_area"))
-        values["max_pressure"] = _num(last.get("max_pressure"))
-        values["repulsive_force"] = _num(last.get("repulsive_force"))
+        f0p_normal = _num(last.get("repulsive_force"))
+        if not humid:  # a humid point takes these from the humid ramp (below): this stage is dry
+            values["contact_area"] = _num(last.get("contact_area"))
+            values["max_pressure"] = _num(last.get("max_pressure"))
+            values["repulsive_force"] = f0p_normal
+            values["capillary_force"] = 0.0
 
         # 2. pull-off from the clamp load
         adh = scenario.get("adhesion") or {}
@@ -291,13 +311,18 @@ def run_chain(scenario: Mapping, chain: Mapping, base_dir=None) -> dict:
                                  "converged": None}
 
         # 3. tangential ramp to gross slip
-        f0p = values["repulsive_force"] if not math.isnan(values["repulsive_force"]) else clamp
+        f0p = f0p_normal if not math.isnan(f0p_normal) else clamp
         tf = chain.get("tangential_forces", "auto")
         auto = tf == "auto"
         if auto:
             n = int(chain.get("auto_steps", 13))
             top = float(chain.get("auto_factor", 1.2)) * mu * max(clamp, f0p)
             tf = [top * i / (n - 1) for i in range(n)]
+        elif humid and (not tf or float(tf[0]) != 0.0):
+            # The humid state at zero tangential load is the ramp's first row; the ramp solves
+            # that state anyway (the origin of the pre-sliding displacement), so this costs nothing.
+            tf = [0.0, *tf]
+        before_ramp = {w: list(st) for w, st in warns.items()}
         s = stage("ramp", stage_scenario(scenario, "partial_slip", load={"force": load["force"]},
                                          friction={"tangential_forces": tf}))
         if s is not None and auto and _first(s.get("static_friction_force")) is None and mu > 0:
@@ -305,9 +330,16 @@ def run_chain(scenario: Mapping, chain: Mapping, base_dir=None) -> dict:
             f0p_ramp = _num(s.get("repulsive_force"))
             if not math.isnan(f0p_ramp) and f0p_ramp > max(clamp, f0p):
                 top = float(chain.get("auto_factor", 1.2)) * mu * f0p_ramp
-                tf = [top * i / (n - 1) for i in range(n)]
+                tf_first, tf = tf, [top * i / (n - 1) for i in range(n)]
+                first = {w: list(st) for w, st in warns.items()}
+                warns.clear()
+                warns.update(before_ramp)  # the first pass's notes (e.g. "no gross slip") are superseded
                 s2 = stage("ramp", stage_scenario(scenario, "partial_slip", load={"force": load["force"]},
                                                   friction={"tangential_forces": tf}))
+                if s2 is None:  # keep the first pass, its forces and its notes
+                    warns.clear()
+                    warns.update(first)
+                    tf = tf_first
                 s = s2 if s2 is not None else s
         if s is not None:
             values["ramp_max_force"] = float(tf[-1]) if tf else math.nan
@@ -317,11 +349,14 @@ def run_chain(scenario: Mapping, chain: Mapping, base_dir=None) -> dict:
                 warns.setdefault(f"design: the ramp ended at {tf[-1]:.4g} N before gross slip: no static friction "
                                  "force (give chain.tangential_forces up to above mu F0+)", []).append("ramp")
             if humid:
-                row = _zero_load_row(s)
+                row = _zero_load_row(s, tf)
                 if row is not None:
-                    values["contact_area"] = _num(row.get("contact_area"))
-                    values["max_pressure"] = _num(row.get("max_pressure"))
-                    values["repulsive_force"] = _num(row.get("repulsive_force"))
+                    for k in ("contact_area", "max_pressure", "repulsive_force", "capillary_force"):
+                        values[k] = _num(row.get(k))
+                else:
+                    warns.setdefault("design: the humid ramp has no state at zero tangential load: contact_area, "
+                                     "max_pressure, repulsive_force and capillary_force are not computed",
+                                     []).append("ramp")
 
         # 4. hysteresis loop (lateral stiffness)
         path = chain.get("hysteresis")

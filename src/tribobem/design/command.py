@@ -65,7 +65,7 @@ class DesignResult:
         keys = ("rank", "hash", "point", "status", "message", "targets_met", "n_targets", "distance",
                 "static_friction_force", "static_friction_ratio", "presliding_displacement", "lateral_stiffness_A",
                 "lateral_stiffness_B", "lateral_stiffness_C", "pull_off_force", "contact_area", "max_pressure",
-                "peak_pressure", "exceeds_hardness", "n_warnings")
+                "peak_pressure", "repulsive_force", "capillary_force", "exceeds_hardness", "n_warnings")
         counts = self.sweep.as_dict() if self.sweep is not None else {"outdir": str(self.outdir)}
         return _jsonable({**counts, "design_nc": str(self.design_nc) if self.design_nc else None,
                           "design_csv": str(self.design_csv) if self.design_csv else None,
@@ -125,7 +125,7 @@ def run_design(design, outdir, scheduler=None, n_workers: int | None = None, pro
     n_workers : int, optional
         Local cluster size (default: the design file's, else min(2, cpus)).
     progress : bool
-        Show a progress bar.
+        Show progress on stderr: a live bar on a terminal, else one line per finished point.
     quiet : bool, optional
         No messages (default ``not progress``).
 

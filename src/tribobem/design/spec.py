@@ -44,7 +44,7 @@ __all__ = ["DesignSpec", "DesignSweep", "Target", "ChainOptions", "load_design",
 
 #: Version of the design chain; part of every point hash (bump it when the chain computes
 #: something else, so old points are recomputed).
-DESIGN_VERSION = 1
+DESIGN_VERSION = 2  # 2: a humid point's contact area, pressures and forces are its humid state
 
 #: Top-level keys of a design file.
 DESIGN_KEYS = {"name", "description", "scenario", "base", "parameters", "points", "chain", "targets",

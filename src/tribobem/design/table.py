@@ -28,7 +28,7 @@ __all__ = ["design_table", "rank_rows", "write_table", "TABLE_VALUES"]
 #: The value columns of the table, in order (SI units).
 TABLE_VALUES = ("static_friction_force", "static_friction_ratio", "presliding_displacement", "lateral_stiffness_A",
                 "lateral_stiffness_B", "lateral_stiffness_C", "pull_off_force", "contact_area", "max_pressure",
-                "peak_pressure", "repulsive_force", "clamp_load", "friction_coefficient", "ramp_max_force")
+                "peak_pressure", "repulsive_force", "capillary_force", "clamp_load", "friction_coefficient", "ramp_max_force")
 
 _UNITS = {"force": "N", "length": "m", "area": "m^2", "pressure": "Pa", "stiffness": "N/m", "dimensionless": "1"}
 

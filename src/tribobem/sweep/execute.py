@@ -3,7 +3,8 @@
 :func:`run_sweep` reads the finished points of a results folder, runs the others
 (:func:`~tribobem.sweep.point.run_point`) in this process (``"synchronous"``), on a
 ``LocalCluster`` of worker processes, or on an existing Dask scheduler, writes every record
-as soon as its point finishes, shows a progress bar, and gathers the results at the end.  A
+as soon as its point finishes, shows its progress (a live bar on a terminal, one line per finished
+point off one), and gathers the results at the end.  A
 Ctrl-C stops it with every finished point saved (the worker processes of a local cluster
 ignore SIGINT, so only this process handles it).
 """
@@ -22,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from .. import _solver_version
@@ -95,22 +97,72 @@ class SweepResult:
 
 
 class _Progress:
-    """Rich progress bar (or nothing)."""
+    """Progress of the points of a sweep: a live Rich bar on a terminal, else one line each.
 
-    def __init__(self, enabled: bool, total: int, label: str):
+    Off a terminal (stderr redirected to a file or a pipe, Rich's ``Console.is_terminal``
+    false) a live bar draws nothing until it stops, so a log would show the start line and
+    then nothing until the end; there every finished point gets its own flushed line instead:
+    ``point 3 of 4 done: x = 1, y = 10 (12.3 s)``.
+
+    Parameters
+    ----------
+    enabled : bool
+        Show progress at all (False: nothing, as under ``--quiet``).
+    total : int
+        Points to run this time.
+    label : str
+        The bar's label (the sweep's name).
+    offset : int
+        Points already done before this run (the line numbers count on from it).
+    n_points : int, optional
+        Points in the sweep (default ``offset + total``).
+    console : rich.console.Console, optional
+        Where the progress goes (default: a console on stderr, beside the other messages).
+    """
+
+    def __init__(self, enabled: bool, total: int, label: str, offset: int = 0, n_points: int | None = None,
+                 console: Console | None = None):
         self.bar = None
-        if enabled and total:
-            try:
-                self.bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
-                                    TimeElapsedColumn(), TimeRemainingColumn(), transient=False)
-                self.task = self.bar.add_task(label, total=total)
-                self.bar.start()
-            except Exception:  # pragma: no cover - no terminal
-                self.bar = None
+        self.lines = False
+        self.done = offset
+        self.n_points = n_points if n_points is not None else offset + total
+        if not (enabled and total):
+            return
+        console = console if console is not None else Console(stderr=True)
+        if not console.is_terminal and not console.is_jupyter:  # a notebook draws Rich's bar itself
+            self.lines = True
+            self.file = console.file
+            return
+        try:
+            self.bar = Progress(TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
+                                TimeElapsedColumn(), TimeRemainingColumn(), transient=False, console=console)
+            self.task = self.bar.add_task(label, total=total)
+            self.bar.start()
+        except Exception:  # pragma: no cover - a console Rich cannot drive: one line per point
+            self.bar = None
+            self.lines = True
+            self.file = console.file
 
-    def advance(self, failed: bool = False):
+    @property
+    def shows_failures(self) -> bool:
+        """True when a failed point's error is part of the progress output (line mode)."""
+        return self.lines
+
+    def advance(self, rec: Mapping | None = None):
+        """One point finished (``rec``: its record, for the line off a terminal)."""
+        self.done += 1
         if self.bar is not None:
             self.bar.advance(self.task)
+        elif self.lines:
+            rec = rec or {}
+            point = rec.get("point") or {}
+            params = ", ".join(f"{k} = {v}" for k, v in point.items()) if isinstance(point, Mapping) else str(point)
+            el = rec.get("elapsed")
+            took = f" ({el:.1f} s)" if isinstance(el, (int, float)) else ""
+            ok = rec.get("status", "ok") == "ok"
+            line = (f"point {self.done} of {self.n_points} {'done' if ok else 'failed'}: {params or '(base)'}{took}" +
+                    ("" if ok else f": {rec.get('error')}"))
+            print(line, file=self.file, flush=True)
 
     def close(self):
         if self.bar is not None:
@@ -151,7 +203,7 @@ def run_sweep(
     n_workers : int, optional
         Local cluster size (default ``min(2, cpu count)``).
     progress : bool
-        Show a progress bar.
+        Show progress on stderr: a live bar on a terminal, else one line per finished point.
     func : callable, optional
         ``func(point) -> dict of scalars`` replaces the spec's runner (library use; the
         point is the dict of overrides as written in the spec).
@@ -216,16 +268,17 @@ def run_sweep(
         return t
 
     n_run = 0
-    bar = _Progress(progress and not quiet, len(todo), spec.name)
+    bar = _Progress(progress and not quiet, len(todo), spec.name, offset=len(done), n_points=len(tasks))
 
     def finish(rec):
         nonlocal n_run
         write_record(outdir, rec)
         records[rec["hash"]] = rec
         n_run += 1
-        bar.advance(rec["status"] != "ok")
+        bar.advance(rec)
         if rec["status"] != "ok":
-            _say(f"point {rec['hash']} {rec.get('point')} failed: {rec.get('error')}", quiet or bar.bar is not None)
+            _say(f"point {rec['hash']} {rec.get('point')} failed: {rec.get('error')}",
+                 quiet or bar.bar is not None or bar.shows_failures)
 
     try:
         if not todo:
