@@ -252,3 +252,27 @@ def test_rh_in_per_cent_is_refused_with_the_fraction(tmp_path, value):
     r = runner.invoke(app, ["run", str(_write(tmp_path, text)), "--out", str(tmp_path / "rh")])
     assert r.exit_code == 2
     assert "not per cent" in r.output and ("write 0.4" in r.output or "write 0.7" in r.output)
+
+
+def test_scenario_physical_size_of_a_scan_is_in_metres_whatever_the_heights_unit(tmp_path):
+    """A .npy scan with heights in nm and physical_size = 1 um: the scan spans 1 um (it was read
+    as 1e-6 nm, i.e. 1e-15 m, and the resampling failed)."""
+    from tribobem.scenario import load_scenario
+    from tribobem.scenario.build import build_problem
+
+    h = np.random.default_rng(0).normal(size=(32, 32))
+    np.save(tmp_path / "h.npy", h)
+    sc = {"kind": "normal", "grid": {"n": 32, "size": "1 um"},
+          "body1": {"E": "70 GPa", "nu": 0.3, "roughness": {"kind": "file", "path": str(tmp_path / "h.npy"),
+                                                            "unit": "nm", "physical_size": ["1 um", "0.5 um"],
+                                                            "detrend": "center"}},
+          "body2": {"rigid": True}, "load": {"force": "1 uN"}}
+    s, base = load_scenario(sc)
+    with pytest.raises(Exception, match="resample|outside"):  # 1 um x 0.5 um does not cover the 1 um grid
+        build_problem(s, base)
+    sc["body1"]["roughness"]["physical_size"] = ["1 um", "1 um"]
+    s, base = load_scenario(sc)
+    pb = build_problem(s, base)
+    f = pb.info["files"]["body1.roughness"]
+    assert f["scan_size"] == pytest.approx([1e-6, 1e-6], rel=1e-12)
+    assert pb.info["roughness"]["body1"]["rms_height"] == pytest.approx(1e-9 * h.std(), rel=1e-9)

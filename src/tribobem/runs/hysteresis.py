@@ -8,19 +8,21 @@ row is the start (Paper E point A, F_x = 0, one-shot solve).  Run level: ``dissi
 the tractions), ``static_friction_force`` (first step without stick on the first loading branch),
 ``presliding_displacement``, ``sliding_force`` (displacement paths in gross sliding),
 ``lateral_stiffness`` (points A, B, C: F_x/(mu F0+) = -0.5, 0, 0.5 on the last branch from -F*
-to +F*), ``loop_change`` (between the last two loops: max |dF_x| / mu F0+ on displacement paths,
-max |d delta_x| / loop width on force paths).  The run-level values take F_x and delta_x along
+to +F*; beside the fit, the slopes of the geometry's analytic reference, named by
+``lateral_stiffness_reference``: :func:`tribobem.analytic.tangential_axisymmetric.lateral_reference`),
+``loop_change`` (between the last two loops: max |dF_x| / mu F0+ on displacement paths, max
+|d delta_x| / loop width on force paths).  The run-level values take F_x and delta_x along
 the load direction (``friction.direction``; the x components for direction 0).
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..analysis.loops import STIFFNESS_POINTS, fit_eq3
-from ..analytic.mindlin import mindlin_compliance_k, mindlin_reloading_stiffness, mindlin_virgin_stiffness
+from ..analytic.tangential_axisymmetric import lateral_reference, reference_geometry
+from ..analytic.mindlin import mindlin_compliance_k
+from ..analytic.tangential_axisymmetric import sphere_partial_slip
 from ..errors import InputError
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
 from .common import normal_method, solve_kw
@@ -68,9 +70,10 @@ def _along(row, e) -> tuple[float, float]:
             row["displacement_x"] * e[0] + row["displacement_y"] * e[1])
 
 
-def _stiffness_table(rows, run, mu, f0p, radius, k_compliance, e=(1.0, 0.0)):
+def _stiffness_table(rows, run, mu, f0p, reference, e=(1.0, 0.0)):
     """K_L at A, B, C on the last branch from -F* to +F* (fit from its turning point), along the
-    load direction ``e``."""
+    load direction ``e``, beside the slopes of ``reference`` (an
+    :class:`~tribobem.analytic.tangential_axisymmetric.AxisymmetricPartialSlip` or None)."""
     idx = [i for i, r in enumerate(rows) if r.get("branch") == "reloading"]
     if not idx:
         return [], {}
@@ -92,7 +95,6 @@ def _stiffness_table(rows, run, mu, f0p, radius, k_compliance, e=(1.0, 0.0)):
     (c1, c2, n), K = lateral_stiffness_fit(F, D)
 
     Fstar = -F0
-    md = {"P": f0p, "a": radius, "mu": mu, "k": k_compliance}
     table = []
     for name, ratio in STIFFNESS_POINTS.items():
         Ft = ratio * mu * f0p
@@ -100,15 +102,20 @@ def _stiffness_table(rows, run, mu, f0p, radius, k_compliance, e=(1.0, 0.0)):
             continue
         dd = float(np.interp(Ft - F0, F, D))
         k_fit = float(K(dd))
-        # Exact Mindlin-Deresiewicz branch through the same turning point (file-contract), with F0+
-        # for P; and Paper F Eq. 6, the virgin-curve slope at the same |force|.
-        try:
-            k_md = float(mindlin_reloading_stiffness(Ft, Fstar, **md))
-            k_virgin = float(mindlin_virgin_stiffness(abs(Ft), **md))
-        except InputError:  # e.g. F* beyond mu F0+ (F0+ fell along the path)
-            k_md = k_virgin = float("nan")
-        table.append({"point": name, "force_ratio": ratio, "tangential_force": Ft, "displacement": dd + d0,
-                      "stiffness": k_fit, "mindlin_stiffness": k_md, "virgin_stiffness": k_virgin})
+        row = {"point": name, "force_ratio": ratio, "tangential_force": Ft, "displacement": dd + d0,
+               "stiffness": k_fit}
+        if reference is not None:
+            # The exact branch of the geometry's reference through the same turning point, with F0+
+            # for P, and its virgin-curve slope at the same |force| (for a sphere: Paper F Eq. 6).
+            try:
+                k_md = float(reference.reloading_stiffness(Ft, Fstar))
+                k_virgin = float(reference.virgin_stiffness(abs(Ft)))
+            except InputError:  # e.g. F* beyond mu F0+ (F0+ fell along the path)
+                k_md = k_virgin = float("nan")
+            row.update(reference_stiffness=k_md, reference_virgin_stiffness=k_virgin)
+            if reference.name == "Mindlin-Deresiewicz":  # the file-contract keys of the sphere's reference
+                row.update(mindlin_stiffness=k_md, virgin_stiffness=k_virgin)
+        table.append(row)
     return table, {"c1": c1, "c2": c2, "n": n}
 
 
@@ -210,18 +217,26 @@ def _run_one(pb, bar, interaction, initial, label: str):
             width = max(D[i] for i in last) - min(D[i] for i in last)
             run_level["loop_change"] = dd / width if width > 0 else None
     # Lateral stiffness (Paper F) on the last branch from -F* to +F*.
-
+    # The K_L reference matches the geometry (tribobem.analytic.tangential_axisymmetric.lateral_reference): a sphere
+    # keeps Mindlin-Deresiewicz at its smooth Hertz radius at F0+, also when rough or dissimilar
+    # (Paper F's smooth-ball comparison; rough contacts have a much smaller real area); a smooth
+    # uncoupled burl gets the rounded punch of Ciavarella-Jaeger; other cases none.
+    inputs = sc.model_dump(mode="json")
     b1, b2 = pb.pair.body1, pb.pair.body2
-    k_comp = mindlin_compliance_k(b1.E, b1.nu, b2.E, b2.nu)
-    # Mindlin's reference is a smooth sphere: its Hertz radius at F0+ when the shapes are
-    # spheres (rough contacts have a much smaller real area), else the contact's own radius.
-    R = pb.info.get("radius")
-    if R:
-        radius = (3.0 * f0p * R / (4.0 * pb.pair.effective_modulus)) ** (1.0 / 3.0)
-    else:
-        radius = math.sqrt(res.start.normal.contact_area_compressive / math.pi)
     try:
-        table, fit = _stiffness_table(rows, res, mu, f0p, radius, k_comp, e)
+        if reference_geometry(inputs)[0] == "sphere":
+            k_comp = mindlin_compliance_k(b1.E, b1.nu, b2.E, b2.nu)
+            radius = (3.0 * f0p * pb.info["radius"] / (4.0 * pb.pair.effective_modulus)) ** (1.0 / 3.0)
+            reference, ref_note = sphere_partial_slip(force=f0p, mu=mu, k=k_comp, contact_radius=radius), ""
+        else:
+            reference, ref_note = lateral_reference(inputs, f0p, mu)
+    except InputError as exc:  # mu = 0, no compressive force
+        reference, ref_note = None, f"no analytic reference: {exc}"
+    run_level["lateral_stiffness_reference"] = reference.name if reference is not None else None
+    if reference is None:
+        run_level["lateral_stiffness_reference_note"] = ref_note
+    try:
+        table, fit = _stiffness_table(rows, res, mu, f0p, reference, e)
         run_level["lateral_stiffness"] = table
         run_level["lateral_stiffness_fit"] = fit
     except (InputError, RuntimeError, ValueError) as exc:
