@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ..solvers.normal import resolve_method
 from ..solvers.paths import LoadCurve, find_jumps
 
 __all__ = ["solve_kw", "normal_method", "step_row", "curve_from_rows", "offset_progress", "approach_below_full_contact"]
@@ -32,7 +33,8 @@ def normal_method(sc) -> str:
     ``auto`` (the default) is NormCG for contact without adhesion and without ``[humidity]``
     (same equilibrium as Polonsky-Keer, 2-4x fewer iterations on rough contacts, see
     benchmarks/README.md), and Polonsky-Keer with adhesion: the adhesive problem is not convex and
-    the load paths and validation of the adhesive kinds were made with it.
+    the load paths and validation of the adhesive kinds were made with it.  The rule is
+    :func:`tribobem.solvers.normal.resolve_method`, the same as ``solve_normal``'s default.
 
     Parameters
     ----------
@@ -44,10 +46,7 @@ def normal_method(sc) -> str:
     str
         ``"normcg"`` or ``"polonsky_keer"``.
     """
-    m = sc.solver.method
-    if m != "auto":
-        return m
-    return "normcg" if (not sc.adhesion.enabled and sc.humidity is None) else "polonsky_keer"
+    return resolve_method(sc.solver.method, sc.adhesion.enabled or sc.humidity is not None)
 
 
 def step_row(res, branch: str) -> dict:

@@ -59,6 +59,11 @@ recompute, history, messages) is :func:`.iteration.run_iterations`, shared with
 :mod:`.normal_cg` and :mod:`.tangential`; the input checks and the result assembly are those of
 :mod:`.normal_problem`, shared with :mod:`.normal_cg`; this module supplies the Polonsky-Keer
 step (:class:`_CGState`).
+
+:func:`solve_normal` is also the entry to both normal solvers: its default ``method="auto"``
+(:func:`resolve_method`, the rule of a scenario's ``[solver] method = "auto"``) solves
+non-adhesive contact with NormCG (:mod:`.normal_cg`) and contact with an outside stress law
+(adhesion, menisci) with Polonsky-Keer.
 """
 
 from __future__ import annotations
@@ -147,6 +152,50 @@ def _stiffness_box(op: ConvolutionOperator, idx):
     return (i - i0, j - j0), (n1, n2), q, op.xp.zeros((n1, n2))
 
 
+#: The normal solvers ``solve_normal`` (and a scenario's ``[solver] method``) can be asked for;
+#: ``"auto"`` stands for one of the two others (:func:`resolve_method`).
+METHODS = ("auto", "polonsky_keer", "normcg")
+
+
+def resolve_method(method: str, adhesive: bool) -> str:
+    """The normal solver that ``method`` stands for: the one rule of ``"auto"``.
+
+    Shared by :func:`solve_normal` (``adhesive``: an outside stress law is given) and the
+    scenario runners (:func:`tribobem.runs.common.normal_method`; ``adhesive``: ``[adhesion]``
+    is on or ``[humidity]`` is given), so that a script and a scenario solve the same problem
+    with the same solver.
+
+    ``"auto"`` is NormCG without an outside stress law: the non-adhesive problem is convex, both
+    solvers reach the same equilibrium (identical contact nodes), and NormCG needs 2-4x fewer
+    iterations on rough contacts, a count that does not grow with the grid (benchmarks/README.md,
+    the NormCG sections).  With one (Dugdale adhesion, a capillary or any other interaction) it
+    is Polonsky-Keer: the problem is not convex, NormCG may stop at another, equally valid
+    equilibrium, and the adhesive load paths and their validation were made with Polonsky-Keer.
+
+    Parameters
+    ----------
+    method : {"auto", "polonsky_keer", "normcg"}
+        The solver asked for.
+    adhesive : bool
+        Whether the problem has an outside stress law (adhesion, menisci, ...).
+
+    Returns
+    -------
+    str
+        ``"polonsky_keer"`` or ``"normcg"``.
+
+    Raises
+    ------
+    InputError
+        ``solver.method`` is none of :data:`METHODS`.
+    """
+    if method == "auto":
+        return "polonsky_keer" if adhesive else "normcg"
+    if method not in METHODS:
+        raise InputError("solver.method", f"must be 'auto', 'polonsky_keer' or 'normcg', got {method!r}")
+    return method
+
+
 def solve_normal(
     operator: ConvolutionOperator,
     gap,
@@ -162,7 +211,7 @@ def solve_normal(
     strict: bool = False,
     refresh: int = 50,
     stall: int = 2000,
-    method: str = "polonsky_keer",
+    method: str = "auto",
     precondition: bool = True,
 ) -> NormalResult:
     """Solve a normal contact problem, with or without adhesion.
@@ -196,10 +245,12 @@ def solve_normal(
         p > floor (with adhesion, pass it: a node at p = 0 outside the cohesive zone is
         otherwise taken as in contact for the first iteration).
     initial_displacement : array_like, optional
-        Polonsky-Keer only: the displacement K p (m) of ``initial_pressure`` on this operator,
-        when the caller has it (e.g. the ``displacement`` of the :class:`NormalResult` passed as
-        ``initial_pressure``, solved on the same operator): it replaces the first convolution.
-        Used only when the warm start is that pressure unchanged (none of it raised to the floor).
+        The displacement K p (m) of ``initial_pressure`` on this operator, when the caller has it
+        (e.g. the ``displacement`` of the :class:`NormalResult` passed as ``initial_pressure``,
+        solved on the same operator): it replaces the first convolution, with either solver.
+        Used only when the warm start is that pressure unchanged (none of it raised to the floor;
+        NormCG: nor rescaled to the force with an outside stress law, where the rescaled
+        pressure's K p needs a convolution anyway); ignored without ``initial_pressure``.
     strict : bool
         Raise :class:`~tribobem.errors.ConvergenceError` instead of warning when the solver
         does not converge.
@@ -210,25 +261,33 @@ def solve_normal(
     stall : int
         Stop (not converged) when the residual has not improved on its best value for
         this many iterations, e.g. when no equilibrium exists near an instability.
-    method : {"polonsky_keer", "normcg"}
-        ``"polonsky_keer"`` (default): this module's constrained CG.  ``"normcg"``:
-        Vollebregt's FFT-preconditioned bound-constrained CG
+    method : {"auto", "polonsky_keer", "normcg"}
+        ``"auto"`` (default, the same rule as a scenario's ``[solver] method = "auto"``, see
+        :func:`resolve_method`): NormCG when ``interaction`` is None (non-adhesive contact),
+        Polonsky-Keer when an interaction is given (Dugdale adhesion, menisci, any outside stress
+        law).  ``"polonsky_keer"``: this module's constrained CG.  ``"normcg"``: Vollebregt's
+        FFT-preconditioned bound-constrained CG
         (:func:`tribobem.solvers.normal_cg.solve_normal_cg`, same arguments and result):
         fewer iterations, whose count does not grow with the grid, and identical contact
         nodes on non-adhesive problems; with Dugdale adhesion it may stop at another, equally
-        valid equilibrium of the non-convex problem (benchmarks/normal_iterations.py).
+        valid equilibrium of the non-convex problem (benchmarks/normal_iterations.py).  The
+        solver used is ``result.info["method"]`` (``"polonsky_keer"``, ``"normcg"``, or
+        ``"bccg"`` for NormCG with ``precondition=False``).
     precondition : bool
-        Polonsky-Keer only: once the contact set and the outside stresses have stopped changing
-        (``PRECONDITION_AFTER`` iterations without a change), precondition the CG with the
-        half-space's stiffness on the contact's box (default).  The steps that change the sets
-        are Polonsky-Keer's own, so it reaches the same equilibrium in fewer iterations.  False:
-        the plain Polonsky-Keer iteration (for comparison).
+        Use the solver's preconditioner (default).  Polonsky-Keer: once the contact set and the
+        outside stresses have stopped changing (``PRECONDITION_AFTER`` iterations without a
+        change), precondition the CG with the half-space's stiffness on the contact's box; the
+        steps that change the sets are Polonsky-Keer's own, so it reaches the same equilibrium
+        in fewer iterations.  NormCG: the FFT preconditioner of every iteration.  False: the
+        plain iteration of either (for comparison; NormCG's is the unpreconditioned
+        bound-constrained CG, far slower).
 
     Returns
     -------
     NormalResult
-        ``info`` holds ``max_penetration`` (m), ``interaction``, ``operator`` and
-        ``counters`` (convolutions of the iteration, see ``_CGState.stats``).
+        ``info`` holds ``method`` (the solver used), ``max_penetration`` (m), ``interaction``,
+        ``operator`` and, for Polonsky-Keer, ``counters`` (convolutions of the iteration, see
+        ``_CGState.stats``); NormCG's entries: :func:`~tribobem.solvers.normal_cg.solve_normal_cg`.
 
     Raises
     ------
@@ -237,14 +296,14 @@ def solve_normal(
     ConvergenceError
         With ``strict``, when the solver does not converge.
     """
+    method = resolve_method(method, interaction is not None and not isinstance(interaction, NoInteraction))
     if method == "normcg":
         from .normal_cg import solve_normal_cg
 
         return solve_normal_cg(operator, gap, force=force, approach=approach, interaction=interaction, tol=tol,
                                max_iterations=max_iterations, initial_pressure=initial_pressure,
-                               initial_contact=initial_contact, strict=strict, refresh=refresh, stall=stall)
-    if method != "polonsky_keer":
-        raise InputError("solver.method", f"must be 'polonsky_keer' or 'normcg', got {method!r}")
+                               initial_contact=initial_contact, initial_displacement=initial_displacement,
+                               strict=strict, refresh=refresh, stall=stall, precondition=precondition)
     t_start = time.perf_counter()
     op = operator.normal
     h, inter, floor, force_control, target, shift, p, contact = normal_problem(
@@ -267,7 +326,8 @@ def solve_normal(
     del state  # its work arrays go before the last convolution allocates
     if u is None:
         u = convolve(op, p)
-    return normal_result(op, h, p, contact, u, approach, inter, outcome, strict, t_start, {"counters": counters})
+    return normal_result(op, h, p, contact, u, approach, inter, outcome, strict, t_start,
+                         {"method": "polonsky_keer", "counters": counters})
 
 
 class _CGState(IterativeSolver):

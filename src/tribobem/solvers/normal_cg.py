@@ -144,6 +144,7 @@ def solve_normal_cg(
     max_iterations: int = 10000,
     initial_pressure=None,
     initial_contact=None,
+    initial_displacement=None,
     strict: bool = False,
     refresh: int = 50,
     stall: int = 2000,
@@ -179,6 +180,14 @@ def solve_normal_cg(
         Warm start (Pa); a :class:`NormalResult` gives its pressure and contact mask.
     initial_contact : array_like of bool, optional
         Contact mask that goes with ``initial_pressure`` (default: p > floor).
+    initial_displacement : array_like, optional
+        The displacement K p (m) of ``initial_pressure`` on this operator, when the caller has
+        it (e.g. the ``displacement`` of the :class:`NormalResult` passed as
+        ``initial_pressure``): it replaces the first convolution (``info["convolutions"]`` one
+        less).  Used only when the warm start is that pressure unchanged by the start (none of
+        it raised to the floor, and under force control either no rescale to the force or one
+        without an outside stress law, where K of the rescaled pressure is the rescaled
+        ``initial_displacement``); ignored without ``initial_pressure``.
     strict : bool
         Raise :class:`~tribobem.errors.ConvergenceError` instead of warning on failure.
     refresh : int
@@ -231,17 +240,26 @@ def solve_normal_cg(
     h, inter, floor, force_control, target, _, p, contact = normal_problem(
         op, gap, force, approach, interaction, tol, max_iterations, initial_pressure, initial_contact, refresh)
     h_eff = h if force_control else h - approach
+    u0 = None
+    if initial_displacement is not None and initial_pressure is not None:
+        # only for the warm start's own pressure (normal_problem raises it to the floor)
+        p_given = initial_pressure.pressure if isinstance(initial_pressure, NormalResult) else initial_pressure
+        u0 = xp.asarray(initial_displacement, dtype=float)
+        if u0.shape != p.shape or not bool(xp.array_equal(p, xp.asarray(p_given))):
+            u0 = None
+        del p_given
     if force_control and not bool(contact.any()):
         # A warm start without contact cannot be rescaled to the force: start cold.
         p = xp.full(grid.shape, target / h.size)
         contact = p > floor
+        u0 = None
 
     # The solver works on p and contact in place (normal_problem made them; no copies), and
     # the warm start's own array is no longer needed: one grid field less at the peak.
     del initial_pressure, initial_contact
     solver = _NormCG(op, inter, floor, h_eff, p, contact, target, refresh,
-                     fft_preconditioner(op) if precondition else None)
-    del p, contact
+                     fft_preconditioner(op) if precondition else None, u0)
+    del p, contact, u0
     outcome = run_iterations(solver, tol=tol, max_iterations=max_iterations, stall=stall)
     p = solver.p.reshape(grid.shape)
     contact = solver.cm.reshape(grid.shape)
@@ -359,8 +377,10 @@ class _NormCG(IterativeSolver):
     force control), ``d`` the search direction on the full grid (0 off the contact).
     """
 
-    def __init__(self, op, inter, floor, h_eff, p, contact, target, refresh, pre):
+    def __init__(self, op, inter, floor, h_eff, p, contact, target, refresh, pre, u0=None):
         xp = op.xp
+        self.u0 = u0  # K p of the start, when the caller knew it (see solve_normal_cg)
+        self.scale = 1.0  # the last force-balance scale (_balance)
         self.op, self.xp, self.inter, self.floor, self.pre = op, xp, inter, floor, pre
         self.shape = h_eff.shape
         self.h = h_eff.ravel()
@@ -425,7 +445,7 @@ class _NormCG(IterativeSolver):
 
     def _balance(self) -> bool:
         """Force control: scale p - floor on the contact to the target force.  False when
-        the contact cannot carry it (beyond pull-off)."""
+        the contact cannot carry it (beyond pull-off).  The scale applied is ``self.scale``."""
         idx, floor = self.idx, self.floor
         if len(idx) == 0:
             return False
@@ -436,6 +456,7 @@ class _NormCG(IterativeSolver):
         scale = (self.target - fixed - floor * len(idx)) / free if free > 0 else -1.0
         if scale <= 0:
             return False
+        self.scale = scale
         self.p[idx] = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
         return True
 
@@ -503,7 +524,23 @@ class _NormCG(IterativeSolver):
             if len(self.idx) == 0 or not self._balance():
                 return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
         # (_classify sets the non-contact nodes to the outside stress of their initial gap.)
-        self.u = self.K(self.p)
+        u0, self.u0 = self.u0, None
+        scale = self.scale if self.force_control else 1.0
+        if u0 is not None and scale != 1.0:
+            # K is linear: the rescaled pressure's displacement is the rescaled one when the
+            # whole pressure was scaled (no outside law, floor 0, no pressure off the contact).
+            xp = self.xp
+            whole = (not self.has_outside and self.floor == 0.0
+                     and int(xp.count_nonzero(self.p)) == int(xp.count_nonzero(self.p[self.idx])))
+            u0 = u0 if whole else None
+        if u0 is not None:
+            # the caller's K p of the start (the last solve's convolution); a copy: u is updated in place
+            self.u = self.xp.array(u0, dtype=float).ravel()
+            if scale != 1.0:
+                self.u *= scale
+        else:
+            self.u = self.K(self.p)
+        del u0
         self.exact, self.since_exact = True, 0
         return self._classify()
 
