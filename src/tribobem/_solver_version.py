@@ -68,6 +68,12 @@ History
     (the fraction scaled with the tolerance): the coupled iteration paths change at the
     tolerances' level (the adhesive friction loop's energies by 1.4e-7, the same stick, contact
     and cohesive areas at every step).
+8
+    Measured scans are plane-detrended by default (``detrend = "height"``, was ``"center"``),
+    so a scenario that reads a file without naming its detrend sees another surface; the
+    library's ``solve_normal`` default is ``method = "auto"`` (NormCG without adhesion); a
+    scenario's ``physical_size`` of a scan is in metres whatever the heights' unit; a design
+    point's humid columns are its humid state.
 """
 
 from __future__ import annotations
@@ -75,4 +81,4 @@ from __future__ import annotations
 __all__ = ["SOLVER_VERSION"]
 
 #: Version of the numerical results (see the module docstring for when to bump it).
-SOLVER_VERSION: int = 7
+SOLVER_VERSION: int = 8

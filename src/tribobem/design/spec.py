@@ -44,7 +44,8 @@ __all__ = ["DesignSpec", "DesignSweep", "Target", "ChainOptions", "load_design",
 
 #: Version of the design chain; part of every point hash (bump it when the chain computes
 #: something else, so old points are recomputed).
-DESIGN_VERSION = 2  # 2: a humid point's contact area, pressures and forces are its humid state
+DESIGN_VERSION = 3  # 2: a humid point's contact area, pressures and forces are its humid state;
+#                    3: the automatic ramp's superseded first pass leaves no warning
 
 #: Top-level keys of a design file.
 DESIGN_KEYS = {"name", "description", "scenario", "base", "parameters", "points", "chain", "targets",

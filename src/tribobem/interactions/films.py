@@ -245,6 +245,7 @@ def film_thickness(
     steady_tolerance: float = 1e-8,
     step_tolerance: float = 1e-4,
     viscosity: float = VISCOSITY,
+    time_progress=None,
 ) -> FilmResult:
     """The adsorbed water film on a body's undeformed topography (module docstring).
 
@@ -287,7 +288,11 @@ def film_thickness(
         (``P = -gamma lap h_w - Pi(e)``), so that the film relaxes to the closed equilibrium.
         False is the thesis' Eq. 8: films on peaks drain without limit.
     time : float, optional
-        thin_film only: integrate to this physical time (s) and stop (converged once reached).
+        thin_film only: integrate to this physical time (s) and stop (converged once reached;
+        not converged when ``max_iterations`` steps end first).  Without the disjoining
+        pressure there is no steady state (the films drain off the peaks for as long as one
+        integrates), so this is the way to say where the result is taken; a scenario must give
+        it there (``[humidity] film_time``).
     duration : float
         thin_film without ``time``: the largest time in units of ``tau_slow``, the linear
         relaxation time (:func:`levelling_time`) of the longest resolved wavelength (the
@@ -302,6 +307,10 @@ def film_thickness(
         mean thickness.
     viscosity : float
         eta in Pa s (thin_film; only sets the time scale).
+    time_progress : callable, optional
+        thin_film only: ``time_progress(t, t_end, tau_slow)`` after every accepted time step:
+        the physical time reached, the end time (``time``, else ``duration x tau_slow``) and the
+        relaxation time ``tau_slow`` (all in s), e.g. for a progress bar over the physical time.
 
     Returns
     -------
@@ -440,6 +449,8 @@ def film_thickness(
         periodic = grid.periodic
     if mode != "thin_film" and (disjoining or time is not None):
         raise InputError("humidity.levelling", "disjoining and time apply to mode='thin_film' only")
+    if time_progress is not None and not callable(time_progress):
+        raise InputError("time_progress", f"must be callable as time_progress(t, t_end, tau_slow), got {time_progress!r}")
 
     def finish(res: FilmResult) -> FilmResult:
         res.wall_time = _time.perf_counter() - t_start
@@ -483,7 +494,7 @@ def film_thickness(
     else:
         res = _thin_film(sp, hs, iso, water, target, disjoining, time, duration, steady_tolerance,
                          step_tolerance, viscosity, 50000 if max_iterations is None else int(max_iterations),
-                         progress)
+                         progress, time_progress)
     e = sp.crop(res.pop("e"))
     mean = float(e.mean())
     if mode == "equilibrium" and system == "open":
@@ -650,14 +661,14 @@ def _equilibrium(sp: _Spectral, hs, iso: Isotherm, water: Water, rh, system, tar
 
 # ----------------------------------------------------------------------------- thin film
 def _thin_film(sp: _Spectral, hs, iso: Isotherm, water: Water, target, disjoining, t_final, duration,
-               steady_tol, step_tol, viscosity, max_steps, progress):
+               steady_tol, step_tol, viscosity, max_steps, progress, time_progress=None):
     gamma = water.surface_tension
     for name, v in (("duration", duration), ("steady_tolerance", steady_tol), ("step_tolerance", step_tol),
                     ("viscosity", viscosity)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise InputError(f"film.{name}", f"must be a finite number > 0, got {v!r}")
     if t_final is not None and not (isinstance(t_final, (int, float)) and math.isfinite(t_final) and t_final > 0):
-        raise InputError("film.time", f"must be a finite time > 0 s, got {t_final!r}")
+        raise InputError("humidity.film_time", f"must be a finite time > 0 s, got {t_final!r}")
     hs_hat = sp.rfft(hs)
     k2 = sp.k2
     gk2 = gamma * k2
@@ -821,6 +832,8 @@ def _thin_film(sp: _Spectral, hs, iso: Isotherm, water: Water, target, disjoinin
                 dp = pressure_hat(e)[1]
             if progress is not None:
                 progress(steps, rel_rate)
+            if time_progress is not None:
+                time_progress(t, t_end, tau_slow)
             if t_final is not None:
                 if t >= t_end * (1.0 - 1e-12):
                     converged = True
@@ -848,7 +861,8 @@ def _thin_film(sp: _Spectral, hs, iso: Isotherm, water: Water, target, disjoinin
         fac = 4.0 if err == 0.0 else min(4.0, max(0.2, 0.9 / math.sqrt(err)))
         dt *= fac
     else:
-        message = f"stopped after max_iterations = {max_steps} time steps at t = {t / tau_slow:.4g} tau_slow"
+        message = (f"stopped after max_iterations = {max_steps} time steps at t = {t:.4g} s ({t / tau_slow:.4g} "
+                   f"tau_slow), before the end time {t_end:.4g} s ({t_end / tau_slow:.4g} tau_slow)")
     message += f" ({cg_total[0]} CG iterations)"
     if clipped:
         message += (f"; the film went negative in {clipped} node updates (set to 0 and the volume restored "

@@ -20,6 +20,13 @@ the films' iterations.  Run level: ``peak_capillary_force`` (the most tensile F_
 ``peak_capillary_rh``.  fields.nc gets, per RH, the film thicknesses, the meniscus mask and the
 island labels (runner key ``step_fields``).
 
+Thin-film levelling (``levelling = "thin_film"``) integrates each film in time, to
+``humidity.film_time`` (required without the disjoining pressure, whose films drain off the peaks
+without end) or to its steady state: each film is then a progress phase of its own over the
+physical time reached, and the steps record that time (``film_time_1`` / ``_2`` in s,
+``film_time_tau_slow_1`` / ``_2`` in units of tau_slow); a film whose step limit came before its
+end time is not converged, with a warning.
+
 Flagged, not silent: a film whose mean thickness (both films together) reaches the relief of
 the gap (its peak-to-valley) buries the roughness, and the island rule then wets the whole
 non-contact area; the step carries ``films_exceed_relief = true`` and a warning says so.
@@ -54,11 +61,37 @@ STEP_FIELDS = {
 }
 
 
-def films_at(pb, rh: float, tol: float = 1e-10):
+#: Resolution of a thin-film levelling's progress phase: the time reached in 1/1000 of the end time.
+FILM_PROGRESS_STEPS = 1000
+
+
+def _film_progress(bar, rh: float, body: int):
+    """A ``time_progress(t, t_end, tau_slow)`` of the thin-film levelling that shows the time
+    reached on ``bar``: a phase of its own, opened at the first time step (when tau_slow is
+    known) and named with the end time in s and in tau_slow, advanced in 1/1000 of the end time."""
+    state = {"shown": -1}
+
+    def report(t, t_end, tau_slow):
+        if state["shown"] < 0:
+            ratio = f" = {t_end / tau_slow:.3g} tau_slow" if tau_slow > 0 else ""
+            # short: a progress line is about 80 characters wide off a wide terminal
+            bar.phase(f"RH {rh:g}, film {body}: levelling to {t_end:.3g} s{ratio}", FILM_PROGRESS_STEPS)
+            state["shown"] = 0
+        done = min(FILM_PROGRESS_STEPS, int(FILM_PROGRESS_STEPS * t / t_end)) if t_end > 0 else FILM_PROGRESS_STEPS
+        if done > state["shown"]:
+            state["shown"] = done
+            bar(done, FILM_PROGRESS_STEPS)
+
+    return report
+
+
+def films_at(pb, rh: float, tol: float = 1e-10, bar=None):
     """Both bodies' levelled films at ``rh`` (:class:`~tribobem.interactions.films.FilmResult`).
 
     Computed on each body's undeformed topography (``pb.humidity.surface1/2``) before contact,
-    as in the thesis; a dry body gets a zero film.
+    as in the thesis; a dry body gets a zero film.  Thin-film levelling integrates to
+    ``humidity.film_time`` when given (the form without disjoining pressure has no steady state,
+    the scenario refuses it without that end time), else to its steady state.
 
     Parameters
     ----------
@@ -68,18 +101,28 @@ def films_at(pb, rh: float, tol: float = 1e-10):
         Relative humidity (0..1).
     tol : float
         Tolerance of the film levelling (floored at 1e-12, below which it would not converge).
+    bar : progress handler, optional
+        Thin-film levelling: each wet body's integration is a phase of ``bar``
+        (``bar.phase``, ``bar(done, total)``) advancing with the physical time reached, in
+        1/1000 of the end time (:data:`FILM_PROGRESS_STEPS`).  None: nothing shown.
 
     Returns
     -------
     (FilmResult, FilmResult)
-        The films of body 1 and body 2 (thickness in m per node).
+        The films of body 1 and body 2 (thickness in m per node; ``time`` reached and
+        ``levelling_time`` tau_slow in s for thin-film levelling).
     """
     hs = pb.humidity
     out = []
-    for surface, iso in ((hs.surface1, hs.isotherm1), (hs.surface2, hs.isotherm2)):
+    for body, (surface, iso) in enumerate(((hs.surface1, hs.isotherm1), (hs.surface2, hs.isotherm2)), 1):
+        kw = {}
+        if hs.levelling == "thin_film":
+            kw["time"] = hs.film_time
+            if bar is not None:
+                kw["time_progress"] = _film_progress(bar, rh, body)
         out.append(film_thickness(surface, pb.grid, iso, rh, hs.water, mode=hs.levelling,
                                   system=None if hs.levelling == "uniform" else hs.system,
-                                  disjoining=hs.disjoining, tol=max(tol, 1e-12)))
+                                  disjoining=hs.disjoining, tol=max(tol, 1e-12), **kw))
     return out[0], out[1]
 
 
@@ -140,7 +183,10 @@ def capillary_row(state, rh: float, f1, f2, opts: dict, relief: float) -> dict:
     -------
     dict
         The step's scalars: forces in N, areas in m^2, radius and film thicknesses in m, pressure
-        in Pa, counts, ``converged`` (state and both films).
+        in Pa, counts, ``converged`` (state and both films); with thin-film levelling also
+        ``film_time_1`` / ``_2`` (the physical time reached, s) and ``film_time_tau_slow_1`` /
+        ``_2`` (the same in units of the film's tau_slow, the relaxation time of its slowest
+        mode; 0 for a dry body).
     """
     row = state.normal.scalars()
     c = float(opts["contribution"])
@@ -168,6 +214,12 @@ def capillary_row(state, rh: float, f1, f2, opts: dict, relief: float) -> dict:
         "films_exceed_relief": bool(films > 0 and films >= relief),
         "converged": bool(state.converged and f1.converged and f2.converged),
     })
+    if "thin_film" in (f1.mode, f2.mode):
+        # how far the thin-film integration went: in s and in units of the slowest mode's
+        # relaxation time (a dry body: 0, it has no film to level)
+        for i, f in ((1, f1), (2, f2)):
+            row[f"film_time_{i}"] = float(f.time)
+            row[f"film_time_tau_slow_{i}"] = float(f.time / f.levelling_time) if f.levelling_time > 0 else 0.0
     return row
 
 
@@ -200,8 +252,18 @@ def step_maps(state, f1, f2) -> dict:
     return {k: np.asarray(v).astype(STEP_FIELDS[k][0]) for k, v in maps.items()}
 
 
-def _film_notes(rh, f1, f2) -> list[str]:
-    return [f"RH {rh:g}, film on body{i}: {f.message}" for i, f in ((1, f1), (2, f2)) if not f.converged]
+def _film_notes(rh, f1, f2, film_time=None) -> list[str]:
+    notes = []
+    for i, f in ((1, f1), (2, f2)):
+        if f.converged:
+            continue
+        note = f"RH {rh:g}, film on body{i}: {f.message}"
+        if f.mode == "thin_film" and film_time is not None and f.time < film_time * (1.0 - 1e-12):
+            # the step limit ended the integration first: the films are not those of the end time asked for
+            note += (f"; its film is that of t = {f.time:.4g} s, not of humidity.film_time = {film_time:.4g} s "
+                     "(give a shorter film_time)")
+        notes.append(note)
+    return notes
 
 
 def run(pb, bar) -> RunOutput:
@@ -230,7 +292,11 @@ def run(pb, bar) -> RunOutput:
     pb.info["normal_method"] = normal_method(sc)  # the solver of the islands' normal solves (summary "problem")
     relief = float(np.ptp(pb.gap))
     n = len(hs.rh)
-    bar.phase("RH steps", n)
+    # Thin-film levelling can dominate the run (minutes per film): each film is then a phase of
+    # its own, advancing with the physical time reached, and each RH's contact solve another.
+    thin = hs.levelling == "thin_film"
+    if not thin:
+        bar.phase("RH steps", n)
     rows, results, labels, notes = [], [], [], []
     maps: dict[str, list] = {k: [] for k in STEP_FIELDS}
     prev = None
@@ -238,7 +304,9 @@ def run(pb, bar) -> RunOutput:
         with warnings.catch_warnings():
             # Non-convergence is flagged per step (converged = false) and gathered below.
             warnings.simplefilter("ignore", ConvergenceWarning)
-            f1, f2 = films_at(pb, rh, kw["tol"])
+            f1, f2 = films_at(pb, rh, kw["tol"], bar=bar if thin else None)
+            if thin:
+                bar.phase(f"RH {rh:g} ({k + 1} of {n}): contact with menisci", 1)
             opts = capillary_options(pb, rh)
             loadkw = {"normal_force": load.force} if load.force is not None else {"approach": load.approach}
             state = solve_capillary(pb.operator, pb.gap, **loadkw, film1=f1.thickness, film2=f2.thickness,
@@ -250,7 +318,7 @@ def run(pb, bar) -> RunOutput:
         labels.append(f"RH {rh:g}")
         for name, m in step_maps(state, f1, f2).items():
             maps[name].append(m)
-        notes += _film_notes(rh, f1, f2)
+        notes += _film_notes(rh, f1, f2, hs.film_time if thin else None)
         if pb.operator is None and math.isnan(row["normal_force"]) and not any("indeterminate" in m for m in notes):
             notes.append("both bodies rigid and touching: the contact reaction is indeterminate, so the normal, "
                          "repulsive and contact forces are NaN; the capillary, solid-solid and water-solid forces "
@@ -262,7 +330,10 @@ def run(pb, bar) -> RunOutput:
                          f"reach the relief of the gap ({relief:.3g} m peak to valley): the water buries the "
                          "roughness and the meniscus covers the whole non-contact area")
         prev = state if state.converged else prev
-        bar(k + 1, n)
+        if thin:
+            bar(1, 1)
+        else:
+            bar(k + 1, n)
     fcap = np.array([r["capillary_force"] for r in rows], dtype=float)
     ipk = int(np.nanargmin(fcap)) if np.any(np.isfinite(fcap)) else 0
     run_level = {"peak_capillary_force": float(fcap[ipk]), "peak_capillary_rh": float(rows[ipk]["rh"]),

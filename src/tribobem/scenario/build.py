@@ -163,6 +163,9 @@ class HumiditySetup:
         ``"none"`` or ``"linear_30_60"`` (Paper C).
     van_der_waals : bool
         Water-solid terms on or off.
+    film_time : float or None
+        Thin-film levelling: the physical time to integrate to (s, ``humidity.film_time``);
+        None: to the steady state.
     """
 
     rh: list
@@ -182,6 +185,7 @@ class HumiditySetup:
     cutoff: float
     contribution: str
     van_der_waals: bool
+    film_time: float | None = None
 
     def info(self) -> dict:
         """Scalars for summary.json ``problem.humidity``."""
@@ -190,7 +194,7 @@ class HumiditySetup:
             "molar_volume": self.water.molar_volume, "isotherm1": self.isotherm1.name,
             "isotherm2": self.isotherm2.name, "hamaker1": self.hamaker1, "hamaker2": self.hamaker2,
             "water_hamaker": self.water_hamaker, "levelling": self.levelling, "film_system": self.system,
-            "disjoining": self.disjoining,
+            "disjoining": self.disjoining, "film_time": self.film_time,
             "contact_angles_deg": [math.degrees(a) for a in self.contact_angles],
             "critical_distance": self.critical_distance, "cutoff": self.cutoff,
             "contribution": self.contribution, "van_der_waals": self.van_der_waals,
@@ -265,7 +269,8 @@ def humidity_setup(sc: Scenario, shape1, shape2, rough1, rough2) -> HumiditySetu
         hamaker1=hams[0], hamaker2=hams[1], water_hamaker=float(hum.water_hamaker), levelling=hum.levelling,
         system=hum.system, disjoining=bool(hum.disjoining), contact_angles=tuple(math.radians(a) for a in hum.contact_angles),
         critical_distance=float(hum.critical_distance), cutoff=cutoff, contribution=hum.contribution,
-        van_der_waals=bool(hum.van_der_waals))
+        van_der_waals=bool(hum.van_der_waals),
+        film_time=float(hum.film_time) if hum.film_time is not None else None)
 
 
 def resolve_path(path: str, base_dir: Path) -> Path:
@@ -349,7 +354,7 @@ class _Loader:
         if spec.kind == "file":
             try:
                 topo = read_topography(path, channel=spec.channel, detrend=spec.detrend, fill=spec.fill,
-                                       periodic=False, physical_sizes=spec.physical_size, unit=spec.unit)
+                                       periodic=False, size=spec.physical_size, unit=spec.unit)
             except InputError as exc:
                 raise _rewrap(exc, key) from None
         else:  # array

@@ -141,6 +141,21 @@ def Number(*, gt=None, ge=None, lt=None, le=None):
     return Quantity("dimensionless", gt=gt, ge=ge, lt=lt, le=le)
 
 
+def RelativeHumidity():
+    """A relative humidity: a fraction in (0, 1] (a number, or a string such as ``"40 %"``).
+
+    A bare number in (1, 100] is refused with the fraction it most likely means: RH is not
+    given in per cent."""
+    def hint(raw):
+        if isinstance(raw, (int, float)) and not isinstance(raw, bool) and 1.0 < raw <= 100.0:
+            raise PydanticCustomError("range", "{message}", {
+                "message": f"relative humidity is a fraction in (0, 1], not per cent: write {raw / 100:g} "
+                           f"(or '{raw:g} %') for {raw:g} %, got {raw!r}"})
+        return raw
+
+    return Annotated[Number(gt=0, le=1), BeforeValidator(hint)]
+
+
 def Int(*, ge=None, le=None):
     """An integer (no bools, no fractional floats), range-checked."""
     def validate(raw):
@@ -155,8 +170,9 @@ def Int(*, ge=None, le=None):
     return Annotated[int, BeforeValidator(validate)]
 
 
-def QuantityList(dimension: str, *, gt=None, ge=None, lt=None, le=None, min_length: int = 1):
-    """A list of quantities, or a table ``{start, stop, num}`` (evenly spaced, both ends in)."""
+def QuantityList(dimension: str, *, gt=None, ge=None, lt=None, le=None, min_length: int = 1, auto: bool = False):
+    """A list of quantities, or a table ``{start, stop, num}`` (evenly spaced, both ends in); with
+    ``auto``, also the string ``"auto"`` (the run picks the values)."""
     unit = DIMENSIONS[dimension][1]
 
     def one(raw, i):
@@ -170,6 +186,8 @@ def QuantityList(dimension: str, *, gt=None, ge=None, lt=None, le=None, min_leng
             raise PydanticCustomError("range", "{message}", {"message": f"item {i}: {exc.context['message']}"}) from None
 
     def validate(raw):
+        if auto and raw == "auto":
+            return raw
         if isinstance(raw, dict):
             extra = set(raw) - {"start", "stop", "num"}
             if extra or not {"start", "stop", "num"} <= set(raw):
@@ -192,6 +210,8 @@ def QuantityList(dimension: str, *, gt=None, ge=None, lt=None, le=None, min_leng
             raise PydanticCustomError("scenario", "{message}", {"message": f"needs at least {min_length} value(s)"})
         return [one(v, i) for i, v in enumerate(raw)]
 
+    if auto:
+        return Annotated[Union[Literal["auto"], list[float]], BeforeValidator(validate)]
     return Annotated[list[float], BeforeValidator(validate)]
 
 
@@ -321,7 +341,10 @@ class FileRoughness(Section):
 
     ``path`` is relative to the scenario file's folder, or ``"data:NAME"`` for a measured file
     shipped with tribobem (e.g. ``"data:example_ps.tiff"``; :func:`tribobem.data.topography_path`,
-    whose folder ``$TRIBOBEM_DATA_DIR`` replaces).  The scan is detrended, optionally
+    whose folder ``$TRIBOBEM_DATA_DIR`` replaces).  ``detrend`` is the trend removed from the
+    scan first: ``"height"`` (the default) the least-squares plane, the convention for a
+    measured scan, whose tilt is no part of the roughness, ``"center"`` only the mean,
+    ``"curvature"`` the best quadratic, ``"none"`` nothing.  The scan is detrended, optionally
     cropped (``crop = {x0, y0, lx, ly}``), then resampled onto the solver grid, whose centre
     sits at ``offset`` (m) from the centre of the (cropped) scan.  ``rms`` rescales the heights;
     ``invert = true`` flips them (valleys become peaks).
@@ -330,7 +353,7 @@ class FileRoughness(Section):
     kind: Literal["file"]
     path: str
     channel: Optional[Union[int, str]] = None
-    detrend: Detrend = "center"
+    detrend: Detrend = "height"
     fill: Literal["harmonic", "none"] = "harmonic"
     unit: Optional[str] = None
     physical_size: Optional[Pair] = None
@@ -717,13 +740,15 @@ class FrictionSpec(Section):
     ``coefficient`` mu >= 0 (0: frictionless; required by partial_slip and hysteresis).
     partial_slip: ``tangential_forces`` (N, along ``direction``; may be negative) or
     ``tangential_displacements`` (m, rigid shifts of body 2 along ``direction``), each a list
-    or a ``{start, stop, num}`` table; omitted: 0.  ``direction`` in degrees from the x axis
+    or a ``{start, stop, num}`` table; omitted: 0.  ``tangential_forces = "auto"``: a ramp to
+    gross slip, 13 steps from 0 to 1.2 mu F0+ (F0+ the repulsive force at zero tangential load,
+    solved first, so adhesion and menisci are included).  ``direction`` in degrees from the x axis
     (default 0).  ``slip``: ``"total"`` (one step from the undeformed state, Paper D) or
     ``"incremental"`` (slip increments, history).  hysteresis: ``path`` (:class:`PathSpec`).
     """
 
     coefficient: Optional[Number(ge=0)] = None
-    tangential_forces: Optional[QuantityList("force")] = None
+    tangential_forces: Optional[QuantityList("force", auto=True)] = None
     tangential_displacements: Optional[QuantityList("length")] = None
     direction: Angle() = 0.0
     slip: Literal["total", "incremental"] = "total"
@@ -750,8 +775,13 @@ class HumiditySpec(Section):
     false): add the isotherm's disjoining pressure to the liquid pressure of the thin-film
     equation, so that the film relaxes to the closed equilibrium and the integration stops at
     its steady state; false is Paper B's Eq. 8 as written, whose film drains off the peaks
-    without an end state.  ``contact_angles``: theta1, theta2 in
-    degrees, in [0, 180] (Paper B Eq. 9; default 0, 0).  ``cutoff`` (m, > 0): the short-range
+    without an end state.  ``film_time`` (s, > 0, thin_film only): the physical time to which
+    the thin-film equation is integrated and at which the films are taken, required with
+    ``disjoining = false`` (no steady state to stop at: refused without it), optional with
+    ``disjoining = true`` (default: to the steady state).  The run shows the time reached per
+    film and records it per step (``film_time_1`` / ``_2`` in s, ``film_time_tau_slow_1`` /
+    ``_2`` in units of tau_slow, the relaxation time of the slowest mode).  ``contact_angles``:
+    theta1, theta2 in degrees, in [0, 180] (Paper B Eq. 9; default 0, 0).  ``cutoff`` (m, > 0): the short-range
     cut-off of the 1/g^3 van der Waals terms without a Dugdale zone (default: ``adhesion.z0``
     when given, else 0.3 nm).  ``critical_distance`` (m, >= 0): a film-to-film air gap below it
     seeds a meniscus (default 0.84 nm, three water-molecule diameters).  ``contribution``:
@@ -762,13 +792,14 @@ class HumiditySpec(Section):
     ``hamaker``).
     """
 
-    rh: Optional[Annotated[list[Number(gt=0, le=1)], BeforeValidator(lambda v: v if isinstance(v, list) else [v])]] = None
+    rh: Optional[Annotated[list[RelativeHumidity()], BeforeValidator(lambda v: v if isinstance(v, list) else [v])]] = None
     temperature: Quantity("temperature", gt=0) = 295.0
     surface_tension: Quantity("surface_tension", gt=0) = 0.0725
     molar_volume: Quantity("molar_volume", gt=0) = 18.05e-6
     levelling: Literal["equilibrium", "thin_film", "uniform"] = "equilibrium"
     film_system: Optional[Literal["open", "closed"]] = None
     disjoining: StrictBool = False
+    film_time: Optional[Quantity("time", gt=0)] = None
     contact_angles: Annotated[list[Angle()], Field(min_length=2, max_length=2)] = Field(default_factory=lambda: [0.0, 0.0])
     cutoff: Optional[Quantity("length", gt=0)] = None
     critical_distance: Quantity("length", ge=0) = 0.84e-9
@@ -787,6 +818,14 @@ class HumiditySpec(Section):
         if self.disjoining and self.levelling != "thin_film":
             _fail("disjoining", f"adds the disjoining pressure to the thin-film equation: it needs levelling = "
                                 f"'thin_film', not {self.levelling!r} (the equilibrium films include it already)")
+        if self.film_time is not None and self.levelling != "thin_film":
+            _fail("film_time", f"is the end time of the thin-film integration: it needs levelling = 'thin_film', "
+                               f"not {self.levelling!r}")
+        if self.levelling == "thin_film" and not self.disjoining and self.film_time is None:
+            _fail("film_time", "levelling = 'thin_film' without disjoining has no steady state (its films drain off "
+                               "the peaks for as long as one integrates), so the run would only stop at its step "
+                               "limit; give film_time (the physical time to integrate to, e.g. '1 ms') or set "
+                               "disjoining = true (the films then relax to the closed equilibrium)")
         if self.rh is not None and len(self.rh) == 0:
             _fail("rh", "needs at least one relative humidity in (0, 1]")
         return self
@@ -866,7 +905,7 @@ class ExpectedSpec(Section):
     reference: str = Field(min_length=1)
     tolerance: Optional[Number(gt=0, lt=1)] = None
     step: Optional[Int()] = None
-    rh: Optional[Number(gt=0, le=1)] = None
+    rh: Optional[RelativeHumidity()] = None
     warnings: list[Literal[CHECK_NAMES]] = Field(default_factory=list)
     values: dict[str, float] = Field(default_factory=dict)
 
