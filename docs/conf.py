@@ -27,6 +27,7 @@ extensions = [
     "myst_parser",
     "sphinx.ext.autodoc",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax's files copied into the site: equations render offline
     "sphinx.ext.viewcode",
     "numpydoc",
     "scenario_keys",
@@ -37,6 +38,12 @@ extensions = [
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
 exclude_patterns = ["_build", "data", "figures", "_templates", "api/toplevel.rst", "Thumbs.db", ".DS_Store"]
+
+# Maths: MathJax 3 served from the site itself (_static/mathjax/, copied from the
+# sphinx-mathjax-offline package of the docs extra), not from a CDN, so that a site opened
+# without a network still typesets its equations.  Set here as well as by that extension, so
+# that the built pages' script path can be read from this file.
+mathjax_path = "mathjax/tex-chtml.js"
 
 # MyST: the README's markdown moves into pages as is; dollar maths and heading anchors for links.
 myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]

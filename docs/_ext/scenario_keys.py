@@ -4,6 +4,13 @@ The tables are read from the pydantic models of :mod:`tribobem.scenario.schema` 
 unit, default, description) and from the run-kind registry :data:`tribobem.runs.KINDS` (which
 kind reads which key, :meth:`tribobem.runs.kind.RunKind.reads`), so they cannot go stale.
 
+A page may keep a table as committed markdown between two marks (``<!-- scenario-keys LoadSpec
+-->`` ... ``<!-- /scenario-keys -->``), so that it also reads as markdown on GitHub.  The build
+checks each such block against what the schema generates now (a stale block is a warning, an
+error under ``-W``) and renders the directive in its place.  ``python docs/_ext/scenario_keys.py
+[--check] [PAGE ...]`` rewrites the blocks of the pages (paths relative to docs/; default the
+scenario page) and turns a bare directive fence into a block; ``--check`` only reports.
+
 Directives (usable from MyST pages as ```` ```{scenario-keys} LoadSpec ```` fences):
 
 ``scenario-keys MODEL``
@@ -277,7 +284,109 @@ def list_table(header: list[str], rows: list[list[str]], widths: list[int] | Non
     return out
 
 
+# ----------------------------------------------------------------------------- table contents
+class TableContent(typing.NamedTuple):
+    """One generated table: its header, rows (reStructuredText cells), column widths (%), and
+    the reStructuredText prose that follows it."""
+
+    header: list[str]
+    rows: list[list[str]]
+    widths: list[int] | None
+    prose: str = ""
+
+
+def keys_content(name: str, options: dict | None = None) -> TableContent:
+    """``scenario-keys MODEL``: the keys of a model of :mod:`tribobem.scenario.schema`."""
+    from tribobem.scenario import schema
+
+    options = options or {}
+    model = getattr(schema, name, None)
+    if not (isinstance(model, type) and issubclass(model, BaseModel)):
+        raise ValueError(f"scenario-keys: {name!r} is not a model of tribobem.scenario.schema")
+    section = options.get("section", SECTION_OF.get(name))
+    header = ["key", "type (unit)", "default", "description"]
+    widths = [14, 22, 12, 52]
+    if section:
+        header.append("read by")
+        widths = [13, 20, 10, 44, 13]
+    prose = "" if "no-docstring" in options else split_tables(_docstring(model))[0]
+    return TableContent(header, model_rows(model, section), widths, prose)
+
+
+def kinds_content() -> TableContent:
+    """``scenario-kinds``: one row per run kind."""
+    from tribobem.runs import KINDS
+    from tribobem.runs.kind import COMMON
+
+    rows = []
+    for name, kind in KINDS.items():
+        own = [s for s in kind.reads() if s not in COMMON or kind.reads()[s] != COMMON[s]]
+        rows.append([f"``{name}``", kind.summary, ", ".join(f"``[{s}]``" for s in own),
+                     ", ".join(kind.figures), ", ".join(kind.report_sections) or "-"])
+    return TableContent(["kind", "what it computes", "its own sections or keys", "figure sets",
+                         "report sections"], rows, [12, 40, 20, 16, 12])
+
+
+def reads_content() -> TableContent:
+    """``scenario-reads``: section by kind, the keys each kind reads."""
+    from tribobem.runs import KINDS
+    from tribobem.runs.kind import SECTIONS
+
+    rows = []
+    for section in SECTIONS:
+        row = [f"``[{section}]``"]
+        for kind in KINDS.values():
+            keys = kind.reads().get(section)
+            if keys is None:
+                row.append("-")
+            elif keys == "*":
+                row.append("all")
+            else:
+                row.append(", ".join(sorted(keys)))
+        rows.append(row)
+    return TableContent(["section"] + [f"``{k}``" for k in KINDS], rows, None)
+
+
+def expected_content() -> TableContent:
+    """``expected-keys``: the summary keys an ``expected`` table may state."""
+    from tribobem.runs import KINDS
+    from tribobem.scenario.schema import EXPECTED_KEYS
+
+    rows = []
+    for key, dim in EXPECTED_KEYS.items():
+        by = [k for k, kind in KINDS.items() if key in kind.result_keys()]
+        rows.append([f"``{key}``", dim, ", ".join(by) if len(by) < len(KINDS) else "every kind"])
+    return TableContent(["key", "dimension", "produced by"], rows, [30, 20, 50])
+
+
+#: directive name -> (takes a model name, content function)
+CONTENT = {
+    "scenario-keys": keys_content,
+    "scenario-kinds": kinds_content,
+    "scenario-reads": reads_content,
+    "expected-keys": expected_content,
+}
+
+
+def content(directive: str, argument: str = "", options: dict | None = None) -> TableContent:
+    fn = CONTENT[directive]
+    return fn(argument, options) if directive == "scenario-keys" else fn()
+
+
+# ----------------------------------------------------------------------------- Sphinx directives
 class _Base(Directive):
+    name = ""
+
+    def run(self):
+        try:
+            table = content(self.name, self.arguments[0] if self.arguments else "", self.options)
+        except ValueError as exc:
+            raise self.error(str(exc)) from None
+        rst = list_table(table.header, table.rows, table.widths)
+        if table.prose:
+            rst += [""] + table.prose.splitlines() + [""]
+        return self._parse(rst)
+
     def _parse(self, rst: list[str]) -> list[nodes.Node]:
         # The generated text is reStructuredText (docstrings, list tables) whatever the page's
         # own markup (MyST pages parse nested content as markdown): parse it as RST here.
@@ -291,74 +400,137 @@ class _Base(Directive):
 
 
 class ScenarioKeys(_Base):
+    name = "scenario-keys"
     required_arguments = 1
     option_spec = {"section": directives.unchanged, "no-docstring": directives.flag}
 
-    def run(self):
-        from tribobem.scenario import schema
-
-        name = self.arguments[0]
-        model = getattr(schema, name, None)
-        if not (isinstance(model, type) and issubclass(model, BaseModel)):
-            raise self.error(f"scenario-keys: {name!r} is not a model of tribobem.scenario.schema")
-        section = self.options.get("section", SECTION_OF.get(name))
-        header = ["key", "type (unit)", "default", "description"]
-        widths = [14, 22, 12, 52]
-        if section:
-            header.append("read by")
-            widths = [13, 20, 10, 44, 13]
-        rst = list_table(header, model_rows(model, section), widths)
-        if "no-docstring" not in self.options:
-            prose, _ = split_tables(_docstring(model))
-            if prose:
-                rst += [""] + prose.splitlines() + [""]
-        return self._parse(rst)
-
 
 class ScenarioKinds(_Base):
-    def run(self):
-        from tribobem.runs import KINDS
-        from tribobem.runs.kind import COMMON
-
-        rows = []
-        for name, kind in KINDS.items():
-            own = [s for s in kind.reads() if s not in COMMON or kind.reads()[s] != COMMON[s]]
-            rows.append([f"``{name}``", kind.summary, ", ".join(f"``[{s}]``" for s in own),
-                         ", ".join(kind.figures), ", ".join(kind.report_sections) or "-"])
-        return self._parse(list_table(["kind", "what it computes", "its own sections or keys",
-                                       "figure sets", "report sections"], rows, [12, 40, 20, 16, 12]))
+    name = "scenario-kinds"
 
 
 class ScenarioReads(_Base):
-    def run(self):
-        from tribobem.runs import KINDS
-        from tribobem.runs.kind import SECTIONS
-
-        rows = []
-        for section in SECTIONS:
-            row = [f"``[{section}]``"]
-            for kind in KINDS.values():
-                keys = kind.reads().get(section)
-                if keys is None:
-                    row.append("-")
-                elif keys == "*":
-                    row.append("all")
-                else:
-                    row.append(", ".join(sorted(keys)))
-            rows.append(row)
-        return self._parse(list_table(["section"] + [f"``{k}``" for k in KINDS], rows))
+    name = "scenario-reads"
 
 
 class ExpectedKeys(_Base):
-    def run(self):
-        from tribobem.runs import KINDS
-        from tribobem.scenario.schema import EXPECTED_KEYS
+    name = "expected-keys"
 
-        rows = []
-        for key, dim in EXPECTED_KEYS.items():
-            by = [k for k, kind in KINDS.items() if key in kind.result_keys()]
-            rows.append([f"``{key}``", dim, ", ".join(by) if len(by) < len(KINDS) else "every kind"])
-        return self._parse(list_table(["key", "dimension", "produced by"], rows, [30, 20, 50]))
+
+# ----------------------------------------------------------------------------- committed markdown
+# A page keeps each generated table as markdown between two marks, so that it reads on GitHub:
+#
+#     <!-- scenario-keys PathSpec :section: friction -->
+#     | key | ... |
+#     <!-- /scenario-keys -->
+#
+# The build checks every such block against what the schema generates now (a stale one is a
+# warning, an error under -W) and renders the directive in its place (list tables with links
+# into the API reference).  ``python docs/_ext/scenario_keys.py [PAGE ...]`` rewrites the
+# blocks of the pages (default: the scenario page), and turns a directive fence into a block.
+_NAMES = "|".join(re.escape(n) for n in CONTENT)
+BLOCK = re.compile(r"^<!-- (?P<name>" + _NAMES + r")(?P<spec>(?: [^\n]*?)?) -->\n.*?^<!-- /(?P=name) -->\n",
+                   re.S | re.M)
+FENCE = re.compile(r"^```\{(?P<name>" + _NAMES + r")\}(?P<arg>[^\n]*)\n(?P<opts>(?::[\w-]+:[^\n]*\n)*)```[ \t]*\n",
+                   re.M)
+PAGES = ["guide/scenarios.md", "guide/kinds.md"]
+
+
+def parse_spec(spec: str) -> tuple[str, dict]:
+    """``"PathSpec :section: friction"`` -> ``("PathSpec", {"section": "friction"})``."""
+    argument, *opts = re.split(r"\s+(?=:[\w-]+:)", spec.strip())
+    if argument.startswith(":"):
+        argument, opts = "", [argument] + opts
+    options = {}
+    for opt in opts:
+        m = re.match(r":([\w-]+):\s*(.*)$", opt.strip())
+        options[m.group(1)] = m.group(2).strip() or None
+    return argument, options
+
+
+def rst_to_markdown(text: str) -> str:
+    """The inline reStructuredText of the docstrings as markdown: roles and literals become code
+    spans (``:func:`~a.b``` -> `` `a.b` ``, ````x```` -> `` `x` ``); paragraphs and ``*`` lists
+    are the same in both."""
+
+    def role(m):
+        target = m.group(1).lstrip("~")
+        if "<" in target and target.endswith(">"):
+            target = target[:target.index("<")].strip()
+        return _code(target)
+
+    text = re.sub(r":(?:py:)?[a-z]+:`([^`]+)`", role, text)
+    return re.sub(r"``(.+?)``", lambda m: _code(m.group(1)), text, flags=re.S)
+
+
+def _code(text: str) -> str:
+    text = " ".join(text.split())
+    return f"`` {text} ``" if "`" in text else f"`{text}`"
+
+
+def markdown_table(header: list[str], rows: list[list[str]]) -> list[str]:
+    def cell(text):
+        text = rst_to_markdown(" ".join(str(text).split())).replace("|", "\\|")
+        return text or " "
+
+    out = ["| " + " | ".join(cell(h) for h in header) + " |", "|" + "---|" * len(header)]
+    out += ["| " + " | ".join(cell(c) for c in row) + " |" for row in rows]
+    return out
+
+
+def markdown_block(name: str, spec: str = "") -> str:
+    """The committed form of one generated table: marks, the markdown table, the prose."""
+    argument, options = parse_spec(spec)
+    table = content(name, argument, options)
+    lines = [f"<!-- {name}{' ' + spec.strip() if spec.strip() else ''} -->", ""]
+    lines += markdown_table(table.header, table.rows)
+    if table.prose:
+        lines += [""] + rst_to_markdown(table.prose).splitlines()
+    lines += ["", f"<!-- /{name} -->"]
+    return "\n".join(lines) + "\n"
+
+
+def _fence_spec(m) -> str:
+    parts = [m.group("arg").strip()] + [line.strip() for line in m.group("opts").splitlines()]
+    return " ".join(p for p in parts if p)
+
+
+def update_page(text: str) -> str:
+    """The page with every generated block rewritten from the schema (and every directive fence
+    turned into a block)."""
+    text = FENCE.sub(lambda m: markdown_block(m.group("name"), _fence_spec(m)), text)
+    return BLOCK.sub(lambda m: markdown_block(m.group("name"), m.group("spec")), text)
+
+
+def stale_blocks(text: str) -> list[str]:
+    """The marks (``"scenario-keys LoadSpec"``) of the blocks that differ from what the schema
+    generates now."""
+    return [f"{m.group('name')}{m.group('spec')}" for m in BLOCK.finditer(text)
+            if m.group(0) != markdown_block(m.group("name"), m.group("spec"))]
+
+
+def blocks_to_directives(text: str) -> str:
+    """The page as the build renders it: each committed block replaced by its directive."""
+
+    def fence(m):
+        argument, options = parse_spec(m.group("spec"))
+        opts = "".join(f":{k}:{' ' + v if v else ''}\n" for k, v in options.items())
+        return f"```{{{m.group('name')}}}{' ' + argument if argument else ''}\n{opts}```\n"
+
+    return BLOCK.sub(fence, text)
+
+
+def _source_read(app, docname, source):
+    from sphinx.util import logging
+
+    text = source[0]
+    if "<!-- " not in text:
+        return
+    for mark in stale_blocks(text):
+        logging.getLogger(__name__).warning(
+            f"the generated table '{mark}' is stale (the schema or the run kinds changed): "
+            f"run python docs/_ext/scenario_keys.py {docname}.md", location=docname)
+    source[0] = blocks_to_directives(text)
 
 
 def setup(app):
@@ -366,7 +538,38 @@ def setup(app):
     app.add_directive("scenario-kinds", ScenarioKinds)
     app.add_directive("scenario-reads", ScenarioReads)
     app.add_directive("expected-keys", ExpectedKeys)
+    app.connect("source-read", _source_read)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
 
 
-__all__ = ["setup", "type_text", "default_text", "split_tables", "model_rows"]
+def main(argv: list[str] | None = None) -> int:
+    """``python docs/_ext/scenario_keys.py [--check] [PAGE ...]``: rewrite the generated tables
+    of the pages (relative to docs/; default the scenario page); ``--check`` only says which
+    are stale (exit 1)."""
+    import sys
+    from pathlib import Path
+
+    args = sys.argv[1:] if argv is None else argv
+    check = "--check" in args
+    pages = [a for a in args if a != "--check"] or PAGES
+    docs = Path(__file__).resolve().parents[1]
+    status = 0
+    for page in pages:
+        path = Path(page) if Path(page).is_absolute() or Path(page).exists() else docs / page
+        text = path.read_text(encoding="utf-8")
+        new = update_page(text)
+        if new != text:
+            if check:
+                print(f"{path}: stale generated tables: {', '.join(stale_blocks(text)) or 'directive fences'}")
+                status = 1
+            else:
+                path.write_text(new, encoding="utf-8")
+                print(f"{path}: generated tables rewritten")
+    return status
+
+
+__all__ = ["setup", "type_text", "default_text", "split_tables", "model_rows", "update_page", "stale_blocks",
+           "markdown_block", "blocks_to_directives", "main"]
+
+if __name__ == "__main__":
+    raise SystemExit(main())
