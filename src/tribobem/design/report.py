@@ -20,9 +20,9 @@ from pathlib import Path
 import numpy as np
 
 from ..output.atomic import atomic_write_text
-from ..output.plotting import DPI, new_figure
+from ..output.plotting import DPI, new_figure, spread_labels
 from ..output.report import _CSS
-from ..units import display_unit, format_quantity
+from ..units import display_unit
 
 __all__ = ["pareto_front", "render_design_report", "write_design_report", "PARETO_PLOTS"]
 
@@ -36,17 +36,26 @@ PARETO_PLOTS = (
 _DIMS = {"static_friction_force": "force", "pull_off_force": "force", "contact_area": "area",
          "lateral_stiffness_A": "stiffness", "lateral_stiffness_B": "stiffness", "lateral_stiffness_C": "stiffness",
          "max_pressure": "pressure", "peak_pressure": "pressure", "presliding_displacement": "length",
-         "static_friction_ratio": "dimensionless", "repulsive_force": "force"}
+         "static_friction_ratio": "dimensionless", "repulsive_force": "force", "capillary_force": "force"}
 
 _LABELS = {"static_friction_force": "static friction force", "pull_off_force": "|pull-off force|",
            "contact_area": "real contact area", "lateral_stiffness_B": "lateral stiffness K_L at B"}
+
+#: The ranking table's own rules: headers wrap (at spaces and after the dots of parameter keys),
+#: a smaller font, cells as narrow as their numbers; the units sit in a second header row.
+_RANK_CSS = """
+table.rank{font-size:.74em}table.rank th{white-space:normal;vertical-align:bottom;padding:2px 3px;\
+overflow-wrap:normal;hyphens:manual}table.rank td{padding:2px 3px;white-space:nowrap}\
+table.rank tr.units th{background:#fafafa;font-weight:normal;color:#555;vertical-align:top}
+"""
 
 #: Columns of the ranked table: (column, header).
 _TABLE_COLUMNS = (
     ("static_friction_force", "F_s"), ("static_friction_ratio", "F_s/(\u03bc F\u2080\u207a)"),
     ("presliding_displacement", "\u03b4_pre"), ("lateral_stiffness_A", "K_L A"), ("lateral_stiffness_B", "K_L B"),
     ("lateral_stiffness_C", "K_L C"), ("pull_off_force", "pull-off"), ("contact_area", "A_real"),
-    ("max_pressure", "p_max"), ("peak_pressure", "p_peak"),
+    ("max_pressure", "p_max"), ("repulsive_force", "F\u2080\u207a"), ("capillary_force", "F_cap"),
+    ("peak_pressure", "p_peak"),
 )
 
 
@@ -100,8 +109,8 @@ def _pareto_figure(rows, targets, xcol, ycol, sx, sy):
         return None, f"no point has both {xcol} and {ycol}"
     sx, sy = _sense(targets, xcol, sx), _sense(targets, ycol, sy)
     front = pareto_front(np.where(ok, xs, np.nan), np.where(ok, ys, np.nan), sx, sy)
-    fx, lx = display_unit(xs[ok], _DIMS[xcol])
-    fy, ly = display_unit(ys[ok], _DIMS[ycol])
+    fx, lx = _column_unit(xs[ok], xcol)  # a stiffness in kN/m, not 70000 N/m
+    fy, ly = _column_unit(ys[ok], ycol)
     fig = new_figure(5.6, 4.4)
     ax = fig.add_subplot(1, 1, 1)
     met_all = np.array([r["targets_met"] == r["n_targets"] and r["n_targets"] > 0 for r in rows])
@@ -112,9 +121,10 @@ def _pareto_figure(rows, targets, xcol, ycol, sx, sy):
     if (ok & met_all).any():
         ax.scatter(xs[ok & met_all] / fx, ys[ok & met_all] / fy, facecolors="none", edgecolors="#1e7e34", s=140,
                    linewidths=1.6, label="all targets met", zorder=5)
-    for i in np.flatnonzero(ok):
-        ax.annotate(_label(rows[i]), (xs[i] / fx, ys[i] / fy), textcoords="offset points", xytext=(4, 4),
-                    fontsize=7, color="#333")
+    ranks = [ax.annotate(_label(rows[i]), (xs[i] / fx, ys[i] / fy), textcoords="offset points", xytext=(4, 4),
+                         fontsize=10, color="#333", zorder=6,  # over a neighbour's marker: on a white ground
+                         bbox={"boxstyle": "round,pad=0.1", "fc": "w", "ec": "none", "alpha": 0.75})
+             for i in np.flatnonzero(ok)]
     for t in targets:  # the target bounds as lines
         for col, f, line in ((xcol, fx, ax.axvline), (ycol, fy, ax.axhline)):
             if t.value_column == col and t.column != "hardness":
@@ -124,22 +134,82 @@ def _pareto_figure(rows, targets, xcol, ycol, sx, sy):
     ax.set_xlabel(f"{_LABELS.get(xcol, xcol)} ({lx})")
     ax.set_ylabel(f"{_LABELS.get(ycol, ycol)} ({ly})")
     ax.set_title(f"better: {'larger' if sx == 'max' else 'smaller'} x, {'larger' if sy == 'max' else 'smaller'} y",
-                 fontsize=9)
+                 fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+    ax.margins(x=0.08, y=0.12)  # room for the rank labels of the extreme points
+    ax.legend(fontsize=10, loc="best")
+    spread_labels(ax, ranks)  # points of a cluster (equal areas) keep readable rank labels
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=DPI)
     names = ", ".join(_label(rows[i]) for i in np.flatnonzero(front))
     return buf.getvalue(), f"Pareto front: {names}"
 
 
-def _fmt(v, col) -> str:
-    if v is None or (isinstance(v, float) and math.isnan(v)):
-        return "n/a"
+def _missing(v) -> bool:
+    return v is None or (isinstance(v, float) and math.isnan(v))
+
+
+def _column_unit(values, col) -> tuple[float, str]:
+    """(factor, label) shared by a column of the ranking table: SI values / factor in label.
+
+    A stiffness (N/m) takes the force's prefixes (kN/m, MN/m).
+    """
     dim = _DIMS.get(col)
+    v = [abs(float(x)) for x in values if not _missing(x)]
     if dim is None or dim == "dimensionless":
-        return f"{v:.4g}"
-    return format_quantity(v, dim, 4)
+        return 1.0, ""
+    if dim == "stiffness":
+        f, lab = display_unit(v, "force")
+        return f, lab + "/m"
+    return display_unit(v, dim)
+
+
+def _number(v, factor: float) -> str:
+    """A table cell: ``v / factor`` to 4 significant digits (no unit: the header row has it)."""
+    if _missing(v):
+        return "n/a"
+    x = float(f"{float(v) / factor:.4g}")
+    # 4 digits, and no exponent below 1e7 (10000 nm², not 1e+04)
+    return f"{x:.0f}" if 1e4 <= abs(x) < 1e7 else f"{x:.4g}"
+
+
+def _wrap(name: str) -> str:
+    """HTML-escaped ``name`` with break opportunities after its dots (a dotted parameter key)."""
+    return "<wbr>".join(html.escape(part + ".") for part in name.split(".")[:-1]) + \
+        ("<wbr>" if "." in name else "") + html.escape(name.split(".")[-1])
+
+
+def _ranking_table(ranked: list[dict]) -> list[str]:
+    """The ranking table: a column per varied parameter, the value columns with their units in a
+    header row (the cells hold numbers only), columns no point has a value in left out, headers
+    wrapping, so that it fits a 1280 px window without scrolling sideways."""
+    e = html.escape
+    params = []
+    for r in ranked:
+        for k in r["point"]:
+            if k not in params:
+                params.append(k)
+    cols = [(c, h) for c, h in _TABLE_COLUMNS if any(not _missing(r.get(c)) for r in ranked)]
+    units = {c: _column_unit([r.get(c) for r in ranked], c) for c, _ in cols}
+    head = (["rank"] + [_wrap(k) for k in params] + ["targets met", "distance"] + [e(h) for _, h in cols]
+            + ["&gt; hardness", "warn&shy;ings", "status"])
+    left = {1 + i for i in range(len(params))} | {len(head) - 1}  # text columns: aligned left
+    unit_row = [""] * (1 + len(params) + 2) + [e(units[c][1]) for c, _ in cols] + ["", "", ""]
+    out = ["<div class='scroll'><table class='steps rank'><thead><tr>"
+           + "".join(f"<th class='l'>{h}</th>" if i in left else f"<th>{h}</th>" for i, h in enumerate(head))
+           + "</tr><tr class='units'>"
+           + "".join(f"<th>{u}</th>" for u in unit_row) + "</tr></thead><tbody>"]
+    for r in ranked:
+        met = f"{r['targets_met']} / {r['n_targets']}"
+        mcls = "met" if r["n_targets"] and r["targets_met"] == r["n_targets"] else ("unmet" if r["n_targets"] else "")
+        eh = r["exceeds_hardness"]
+        ehs = "n/a" if eh is None else ("<span class='unmet'>YES</span>" if eh else "no")
+        pcells = "".join(f"<td class='l'>{e(str(r['point'].get(k, '')))}</td>" for k in params)
+        out.append(f"<tr><td>{r['rank']}</td>{pcells}<td class='{mcls}'>{met}</td><td>{r['distance']:.3g}</td>"
+                   + "".join(f"<td>{e(_number(r.get(c), units[c][0]))}</td>" for c, _ in cols)
+                   + f"<td>{ehs}</td><td>{r['n_warnings']}</td><td class='l'>{e(r['status'])}</td></tr>")
+    out.append("</tbody></table></div>")
+    return out
 
 
 def _point_text(point) -> str:
@@ -169,7 +239,7 @@ def render_design_report(design, rows: list[dict], result=None) -> str:
     n_failed = sum(r["status"] == "failed" for r in rows)
     n_missing = len(rows) - n_ok - n_failed
     out = ["<!DOCTYPE html><html><head><meta charset='utf-8'>",
-           f"<title>tribobem design: {e(design.name)}</title><style>{_CSS}</style></head><body>",
+           f"<title>tribobem design: {e(design.name)}</title><style>{_CSS}{_RANK_CSS}</style></head><body>",
            f"<h1>Design study: {e(design.name)}</h1>"]
     if design.description:
         out.append(f"<p>{e(design.description)}</p>")
@@ -194,27 +264,18 @@ def render_design_report(design, rows: list[dict], result=None) -> str:
         out.append("<p class='muted'>No [targets]: the points are listed in sweep order (rank by index).</p>")
 
     # ranking table
-    out.append("<h2>Ranking</h2><div class='scroll'><table class='steps'><tr><th>rank</th><th class='l'>design "
-               "point</th><th>targets met</th><th>distance</th>" +
-               "".join(f"<th>{e(h)}</th>" for _, h in _TABLE_COLUMNS) +
-               "<th>&gt; hardness</th><th>warnings</th><th class='l'>status</th></tr>")
-    for r in ranked:
-        met = f"{r['targets_met']} / {r['n_targets']}"
-        mcls = "met" if r["n_targets"] and r["targets_met"] == r["n_targets"] else ("unmet" if r["n_targets"] else "")
-        eh = r["exceeds_hardness"]
-        ehs = "n/a" if eh is None else ("<span class='unmet'>YES</span>" if eh else "no")
-        out.append(f"<tr><td>{r['rank']}</td><td class='l'>{e(_point_text(r['point']))}</td>"
-                   f"<td class='{mcls}'>{met}</td><td>{r['distance']:.3g}</td>" +
-                   "".join(f"<td>{e(_fmt(r[c], c))}</td>" for c, _ in _TABLE_COLUMNS) +
-                   f"<td>{ehs}</td><td>{r['n_warnings']}</td><td class='l'>{e(r['status'])}</td></tr>")
-    out.append("</table></div>")
+    out.append("<h2>Ranking</h2>")
+    out += _ranking_table(ranked)
     out.append("<p class='muted'>F_s: static friction force (gross-slip onset of the tangential ramp); "
                "F\u2080\u207a: repulsive force at zero tangential load; \u03b4_pre: pre-sliding displacement; "
                "K_L A/B/C: lateral stiffness at Paper F's points (F_x / (\u03bc F\u2080\u207a) = -0.5, 0, 0.5 on "
                "the last branch of the hysteresis loop); pull-off: from the clamp load (negative: tensile); "
-               "A_real and p_max: at the clamp load (humid points: the ramp's state at zero tangential load, "
-               "menisci included); p_peak: highest pressure over every state of the chain, the one the hardness "
-               "check reads.</p>")
+               "A_real, p_max, F\u2080\u207a and F_cap: real contact area, max contact pressure, repulsive "
+               "force and meniscus force (negative: tensile) at the clamp load and zero tangential load; a dry "
+               "point (no humidity) reads them from the normal-contact stage (F_cap = 0), a humid point from the "
+               "first state of its humid tangential ramp (F_t = 0, the menisci of the point's RH pulling, so "
+               "F\u2080\u207a exceeds the clamp load by the tensile forces); p_peak: highest pressure over every "
+               "state of the chain, the one the hardness check reads.</p>")
     if design.targets:
         out.append("<h3>Targets per point</h3><div class='scroll'><table class='steps'><tr><th>rank</th>" +
                    "".join(f"<th>{e(t.label())}</th>" for t in design.targets) + "</tr>")

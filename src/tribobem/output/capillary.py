@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..units import display_unit, format_quantity
+from ..units import display_unit, format_value
 from .plotting import map_axes, map_extent, new_figure, save_png
 
 __all__ = ["is_capillary", "is_humid_pulloff", "chosen_steps", "capillary_step", "capillary_forces_figure",
@@ -181,8 +181,8 @@ def capillary_forces_figure(summary: dict, path) -> Path | None:
     ax.set_xlabel("relative humidity RH (%)")
     ax.set_ylabel(f"force ({fl}), < 0 tensile")
     load = summary.get("inputs", {}).get("load", {}) or {}
-    what = (f"F = {format_quantity(load['force'], 'force', 3)}" if load.get("force") is not None else
-            f"approach {format_quantity(load['approach'], 'length', 3)}" if load.get("approach") is not None else "")
+    what = (f"F = {format_value(load['force'], 'force', 3)}" if load.get("force") is not None else
+            f"approach {format_value(load['approach'], 'length', 3)}" if load.get("approach") is not None else "")
     ax.set_title(f"adhesive force components ({what})", fontsize=10)
     ax.legend(fontsize=8, loc="best")
     g = summary.get("problem", {}).get("grid") or {}

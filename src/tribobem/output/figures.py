@@ -1,6 +1,6 @@
 """PNG figures of a run (matplotlib, Agg, no pyplot state): topography, pressure map, contact
-map, centre-line profile, force-approach curve; for the tangential kinds (partial_slip,
-hysteresis) stick/slip maps with traction arrows, stick ratio and displacement against
+map, profile along the row through the largest pressure, force-approach curve; for the
+tangential kinds (partial_slip, hysteresis) stick/slip maps with traction arrows, stick ratio and displacement against
 F_x/(mu F0+), and stick ratio against the normal force of a normal-load path (humid runs: the
 meniscus edge outlined on the maps, and the curves per RH in :mod:`.humid`); for hysteresis
 the loop F_x - delta_x with Paper E's points (A, D, D', H ...), the lateral stiffness at Paper
@@ -18,9 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..units import display_unit, format_quantity
+from ..units import display_unit, format_value
 from .fields import representative_step
-from .plotting import COLORS, CONTACT_COLORS, map_axes, map_extent, new_figure, save_png, step_title
+from .plotting import COLORS, CONTACT_COLORS, keep_inside, map_axes, map_extent, new_figure, profile_row, save_png
+from .plotting import step_title
 from .plotting import finite as _num
 from .plotting import friction_coefficient as _friction_coefficient
 from .plotting import is_hysteresis
@@ -30,6 +31,7 @@ from .humid import humid_friction_figures, is_humid_friction, rh_label, rh_summa
 __all__ = ["FIGURE_NAMES", "make_figures", "topography_figure", "pressure_figure", "contact_figure",
            "profile_figure", "force_curve_figure", "stickslip_figure", "stickslip_steps", "stick_ratio_figure",
            "stick_normal_figure", "is_hysteresis", "turning_point_letters", "mindlin_reference",
+           "loop_reference", "kl_reference",
            "hysteresis_loop_figure", "lateral_stiffness_figure", "dissipation_figure", "loop_map_steps",
            "loop_stickslip_figure", "hysteresis_figures", "FIGURE_SETS", "load_curve_figures", "friction_figures",
            "hysteresis_run_figures", "capillary_run_figures", "map_figures", "meniscus_mask",
@@ -158,10 +160,10 @@ def contact_figure(ds, step: int, path) -> Path:
     cmap = ListedColormap(list(CONTACT_COLORS))
     ax.imshow(code.T, origin="lower", extent=map_extent(ds, lf), cmap=cmap,
               norm=BoundaryNorm([-0.5, 0.5, 1.5, 2.5], 3), interpolation="nearest")
-    handles = [Patch(color=CONTACT_COLORS[2], label=f"contact: {format_quantity(contact.sum() * cell, 'area', 3)}")]
+    handles = [Patch(color=CONTACT_COLORS[2], label=f"contact: {format_value(contact.sum() * cell, 'area', 3)}")]
     if np.any(np.asarray(ds["adhesive"].values)):  # adhesive run: show the cohesive zone even when empty
         handles.append(Patch(color=CONTACT_COLORS[1],
-                             label=f"cohesive zone: {format_quantity(adhesive.sum() * cell, 'area', 3)}"))
+                             label=f"cohesive zone: {format_value(adhesive.sum() * cell, 'area', 3)}"))
     handles.append(Patch(facecolor=CONTACT_COLORS[0], edgecolor="0.6", label="free"))
     ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.85)
     map_axes(ax, ds, lf, ll, active=code > 0)
@@ -170,7 +172,9 @@ def contact_figure(ds, step: int, path) -> Path:
 
 
 def profile_figure(ds, step: int, path) -> Path:
-    """Gap and pressure along the centre line y = 0 (the row nearest to it).
+    """Gap and pressure along the row y = const through the largest pressure of the state
+    (:func:`~tribobem.output.plotting.profile_row`; the centre line when there is no pressure);
+    the title says which y.
 
     Parameters
     ----------
@@ -187,7 +191,7 @@ def profile_figure(ds, step: int, path) -> Path:
         The written PNG file.
     """
     y = np.asarray(ds["y"].values)
-    iy = int(np.argmin(np.abs(y)))
+    iy, through = profile_row(ds["pressure"].values[step], y)
     x = np.asarray(ds["x"].values)
     g = np.asarray(ds["gap"].values[step])[:, iy]
     h = np.asarray(ds["initial_gap"].values)[:, iy]
@@ -205,9 +209,13 @@ def profile_figure(ds, step: int, path) -> Path:
     ax2.plot(x / lf, p / pf, color="#d62728", lw=1.4, label="pressure p")
     ax2.axhline(0.0, color="#d62728", lw=0.5, alpha=0.5)
     ax2.set_ylabel(f"pressure ({pl})", color="#d62728")
+    if not np.any(p):  # no pressure on the line: a readable empty axis, not matplotlib's +-0.04
+        ax2.set_ylim(-1.0, 1.0)
     lines = ax.get_lines()[:2] + ax2.get_lines()[:1]
-    ax.legend(lines, [ln.get_label() for ln in lines], loc="upper center", fontsize=8)
-    ax.set_title(f"centre line y = {y[iy] / lf:.3g} {ll} ({step_title(ds, step)})", fontsize=10)
+    # below the axes: inside, it hides the curves of a contact that fills the line
+    fig.legend(lines, [ln.get_label() for ln in lines], loc="outside lower center", ncols=3, frameon=False)
+    where = "centre line" if through == "centre line" else f"row through the {through}"
+    ax.set_title(f"{step_title(ds, step)}\nalong y = {y[iy] / lf:.3g} {ll} ({where})", fontsize=10)
     return save_png(fig, path)
 
 
@@ -250,7 +258,7 @@ def force_curve_figure(summary: dict, path) -> Path | None:
     pa = summary.get("pull_off_approach")
     if po is not None and pa is not None and po < 0:
         ax.plot([pa / df], [po / ff], marker="*", ms=14, color="#e9c46a", mec="k", ls="none",
-                label=f"pull-off {format_quantity(po, 'force', 3)}", zorder=5)
+                label=f"pull-off {format_value(po, 'force', 3)}", zorder=5)
     seen = set()
     for j in summary.get("jumps") or []:
         if j.get("approach") is None or j.get("force") is None:
@@ -553,13 +561,13 @@ def _stickslip_axes(ax, ds, step: int, *, mu=None, qmax=None, window=None, lette
             fx = 0.0  # round-off at the start (F_x = 0)
         if mu is not None and f0 > 0 and fx is not None:
             line1 += rf": $F_x/(\mu F_0^+)$ = {fx / (mu * f0):.3f}"
-        line2 = f"$F_x$ = {format_quantity(fx, 'force', 3)}, " if fx is not None else ""
+        line2 = f"$F_x$ = {format_value(fx, 'force', 3)}, " if fx is not None else ""
         line2 += f"stick ratio {ratio:.3f}" if n_comp else "no compressive contact"
         ax.set_title(f"{line1}\n{line2}", fontsize=9)
         return handles
-    line1 = f"{_step_name(ds, step)}: $F$ = {format_quantity(fn, 'force', 3)}"
+    line1 = f"{_step_name(ds, step)}: $F$ = {format_value(fn, 'force', 3)}"
     if fx is not None:
-        line1 += f", $F_x$ = {format_quantity(fx, 'force', 3)}"
+        line1 += f", $F_x$ = {format_value(fx, 'force', 3)}"
     if mu is not None and f0 > 0 and fx is not None:
         if abs(fy) > 1e-9 * max(abs(fx), 1e-300):
             line2 = rf"$|F_t|/(\mu F_0^+)$ = {np.hypot(fx, fy) / (mu * f0):.3f}"
@@ -681,7 +689,7 @@ def stick_ratio_figure(summary: dict, path) -> Path | None:
     onset_text = None
     if onset is not None:
         onset_text = (f"gross-slip onset {onset:.3f}" if normalised else
-                      f"gross-slip onset {format_quantity(onset * xf, 'force', 3)}")
+                      f"gross-slip onset {format_value(onset * xf, 'force', 3)}")
         for a in axes:
             a.axvline(onset, color="#e76f51", ls="--", lw=1.2, label=onset_text if a is ax else None)
     if ax.get_legend_handles_labels()[0]:
@@ -699,7 +707,7 @@ def stick_ratio_figure(summary: dict, path) -> Path | None:
         _plot_branches(ax2, xv, d / df, rows, color="#2a9d8f")
         if pre is not None:
             ax2.axhline((d0 + pre) / df, color="#6a4c93", ls=":", lw=1.2,
-                        label=f"presliding displacement {format_quantity(pre, 'length', 3)}")
+                        label=f"presliding displacement {format_value(pre, 'length', 3)}")
             if onset is not None:
                 ax2.plot([onset], [(d0 + pre) / df], marker="*", ms=13, color="#e9c46a", mec="k", ls="none",
                          zorder=5)
@@ -846,9 +854,11 @@ def _smooth(summary: dict) -> bool:
 
 
 def mindlin_reference(summary: dict) -> dict | None:
-    """The Mindlin-Deresiewicz loop of the run, when it applies: smooth bodies with
+    """The Mindlin-Deresiewicz loop of the run, when it applies: a sphere (paraboloid) on a
+    flat or a sphere (:func:`tribobem.analytic.tangential_axisymmetric.reference_geometry`), smooth bodies with
     no normal-tangential coupling (identical materials, or beta = 0), a peak force below
-    mu F0+, F0+ and the compressive contact area of the start row known.
+    mu F0+, F0+ and the compressive contact area of the start row known.  Other shapes (a
+    burl: :func:`loop_reference`) get None.
 
     Returns
     -------
@@ -862,11 +872,15 @@ def mindlin_reference(summary: dict) -> dict | None:
     summary : dict
         The run summary (summary.json) of a hysteresis run.
     """
+    from ..analytic.tangential_axisymmetric import reference_geometry
+
     rows = _hysteresis_rows(summary)
     mu = _friction_coefficient(summary)
     bodies = _shear_moduli(summary)
     if not rows or mu is None or bodies is None or not _smooth(summary):
         return None
+    if reference_geometry((summary or {}).get("inputs") or {})[0] != "sphere":
+        return None  # a sphere's loop applied to a punch is wrong by up to a factor of several in K_L
     (c1, n1), (c2, n2) = bodies
     beta = (1.0 - 2.0 * n1) * c1 - (1.0 - 2.0 * n2) * c2
     k = (2.0 - n1) * c1 + (2.0 - n2) * c2
@@ -903,10 +917,111 @@ def _mindlin_branches(ref: dict, n: int = 120):
     return [(q, load + off), (qu, unload + off), (qu[::-1], reload + off)]
 
 
+def loop_reference(summary: dict) -> dict | None:
+    """The analytic loop matching the run's geometry, when there is one: Mindlin-Deresiewicz for
+    a sphere (:func:`mindlin_reference`), the rounded punch of Ciavarella-Jaeger for a smooth
+    burl of uncoupled bodies (:func:`tribobem.analytic.tangential_axisymmetric.lateral_reference`); None otherwise
+    (:func:`kl_reference` says why).
+
+    Parameters
+    ----------
+    summary : dict
+        The run summary (summary.json) of a hysteresis run.
+
+    Returns
+    -------
+    dict or None
+        ``name`` (for legends and tables), ``mu_p`` (mu F0+, N), ``peak`` (Q*, N), ``offset``
+        (delta_x of the start, m), ``energy`` (loop area per cycle, J) and, but for the sphere,
+        ``model`` (:class:`~tribobem.analytic.tangential_axisymmetric.AxisymmetricPartialSlip`);
+        the sphere's also has the keys of :func:`mindlin_reference`.
+    """
+    from ..analytic.tangential_axisymmetric import lateral_reference, reference_geometry
+    from ..errors import InputError
+
+    inp = (summary or {}).get("inputs") or {}
+    if reference_geometry(inp)[0] == "sphere":
+        ref = mindlin_reference(summary)
+        return None if ref is None else dict(ref, name="Mindlin-Deresiewicz")
+    rows = _hysteresis_rows(summary)
+    mu = _friction_coefficient(summary)
+    if not rows or mu is None:
+        return None
+    P = _num(rows[0].get("repulsive_force"))
+    try:
+        model, _ = lateral_reference(inp, P, mu)
+    except (InputError, TypeError, ValueError, KeyError):  # an echo this reader cannot use
+        return None
+    if model is None:
+        return None
+    peak = _num(summary.get("peak_force"))
+    if peak is None:
+        peak = float(max(abs(float(r["tangential_force_x"])) for r in rows))
+    if not (0 < peak < model.mu_p * (1 - 1e-9)):
+        return None
+    return {"name": model.name, "model": model, "mu_p": model.mu_p, "peak": peak,
+            "offset": float(rows[0]["displacement_x"]), "energy": model.loop_energy(peak)}
+
+
+def _reference_branches(ref: dict, n: int = 120):
+    """(F, delta) of the reference's initial loading, unloading and reloading (N, m)."""
+    model = ref.get("model")
+    if model is None:
+        return _mindlin_branches(ref, n)
+    qs, off = ref["peak"], ref["offset"]
+    q = np.linspace(0.0, qs, n)
+    qu = np.linspace(qs, -qs, 2 * n)
+    return [(q, model.virgin_displacement(q) + off), (qu, model.unloading_displacement(qu, qs) + off),
+            (qu[::-1], model.reloading_displacement(qu[::-1], qs) + off)]
+
+
+def kl_reference(summary: dict) -> tuple[str | None, str]:
+    """Name of the analytic reference beside the fitted K_L of ``summary["lateral_stiffness"]``
+    (its rows' ``reference_stiffness`` and ``reference_virgin_stiffness``), or None and why.
+
+    Summaries written before the reference matched the geometry carry the sphere's law in
+    ``mindlin_stiffness``: it is shown for a sphere only.
+
+    Parameters
+    ----------
+    summary : dict
+        The run summary (summary.json) of a hysteresis run.
+
+    Returns
+    -------
+    (str or None, str)
+        The reference's name ("Mindlin-Deresiewicz", "rounded punch (Ciavarella-Jaeger)") and
+        an empty note, or None and a one-line note.
+    """
+    from ..analytic.tangential_axisymmetric import reference_geometry
+
+    s = summary or {}
+    if "lateral_stiffness_reference" in s:
+        name = s.get("lateral_stiffness_reference")
+        return (name, "") if name else (None, str(s.get("lateral_stiffness_reference_note")
+                                                   or "no analytic reference for this geometry"))
+    kind, _, note = reference_geometry(s.get("inputs") or {})
+    if kind == "sphere":
+        return "Mindlin-Deresiewicz", ""
+    return None, note or ("no analytic reference in this summary: its K_L reference is a sphere's, not this "
+                          "geometry's (rerun the scenario for the rounded punch's)")
+
+
+def _kl_reference_values(row: dict) -> tuple[float, float]:
+    """(branch slope, virgin slope) of the reference at one of the points A, B, C (N/m; nan when absent)."""
+    def val(*keys):
+        for key in keys:
+            v = _num(row.get(key))
+            if v is not None:
+                return v
+        return np.nan
+    return val("reference_stiffness", "mindlin_stiffness"), val("reference_virgin_stiffness", "virgin_stiffness")
+
+
 def hysteresis_loop_figure(summary: dict, path) -> Path | None:
     """Friction hysteresis loop F_x against delta_x, one colour per cycle (cycle 0, the initial
     loading, dashed), Paper E's points marked (A, A', turning points D, H, L ... and D', H' ...),
-    the Mindlin-Deresiewicz loop overlaid when it applies (:func:`mindlin_reference`); below,
+    the analytic loop of the geometry overlaid when there is one (:func:`loop_reference`); below,
     the stick ratio along the path against the step index, markers by branch.  None when the
     rows lack F_x or delta_x.
 
@@ -933,7 +1048,7 @@ def hysteresis_loop_figure(summary: dict, path) -> Path | None:
     branch = [str(r.get("branch") or "") for r in rows]
     sr = np.array([_num(r.get("stick_ratio")) if _num(r.get("stick_ratio")) is not None else np.nan for r in rows])
     letters = turning_point_letters(rows)
-    ref = mindlin_reference(summary)
+    ref = loop_reference(summary)
     extra_d = [D.min(), D.max()]
     ff, fl = display_unit(F, "force")
     df, dl = display_unit(np.concatenate([D - D[0], extra_d]), "length")
@@ -957,16 +1072,16 @@ def hysteresis_loop_figure(summary: dict, path) -> Path | None:
         ax.plot(D[idx] / df, F[idx] / ff, color=color, lw=1.5, ls="--" if c == 0 else "-",
                 marker=_BRANCH_MARKERS.get(b, "o") if ms else None, ms=ms, label=lab, zorder=2)
     if ref is not None:
-        for k, (q, d) in enumerate(_mindlin_branches(ref)):
+        for k, (q, d) in enumerate(_reference_branches(ref)):
             ax.plot(d / df, q / ff, color="0.55", lw=6, alpha=0.35, solid_capstyle="round", zorder=1,
-                    label="Mindlin-Deresiewicz (analytic)" if k == 0 else None)
+                    label=f"{ref['name']} (analytic)" if k == 0 else None)
     conv = np.array([bool(r.get("converged", True)) for r in rows])
     if (~conv).any():
         ax.plot(D[~conv] / df, F[~conv] / ff, "x", color="k", ms=8, mew=1.5, label="not converged", zorder=4)
     ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
     ax.axvline(0.0, color="0.6", lw=0.6, zorder=0)
     ax.margins(x=0.1, y=0.1)
-    _label_points(ax, D / df, F / ff, letters)
+    names = _label_points(ax, D / df, F / ff, letters)
     ax.set_xlabel(f"tangential displacement $\\delta_x$ ({dl})")
     ax.set_ylabel(f"tangential force $F_x$ ({fl})")
     ax.grid(alpha=0.3)
@@ -984,18 +1099,20 @@ def hysteresis_loop_figure(summary: dict, path) -> Path | None:
             if b in branch:
                 handles.append(Line2D([], [], color="0.3", marker=m, ls="none", ms=5))
                 labels.append(b)
-    ax.legend(handles, labels, fontsize=8, loc="upper left", framealpha=0.9)
+    # below the panels, not inside: a loop fills a corner or the centre depending on its shape
+    # (lens or rectangle), and the colours and markers are those of the stick-ratio panel too
+    fig.legend(handles, labels, fontsize=10, loc="outside lower center", ncols=min(len(labels), 3), frameon=False)
     title = "friction hysteresis loop"
     if _num(summary.get("rh")) is not None:  # one RH of a humid run
         title += f" at RH {100 * float(summary['rh']):.3g} %"
     peak = _num(summary.get("peak_force"))
     if peak is not None and mu is not None and f0p:
-        title += f", $F^*$ = {format_quantity(peak, 'force', 3)} = {peak / (mu * f0p):.3g} $\\mu F_0^+$"
+        title += f", $F^*$ = {format_value(peak, 'force', 3)} = {peak / (mu * f0p):.3g} $\\mu F_0^+$"
     else:
         path_in = (((summary.get("inputs") or {}).get("friction") or {}).get("path") or {})
         stroke = _num(path_in.get("stroke")) if isinstance(path_in, dict) else None
         if stroke is not None:
-            title += f", displacement control, stroke {format_quantity(stroke, 'length', 3)}"
+            title += f", displacement control, stroke {format_value(stroke, 'length', 3)}"
     ax.set_title(title, fontsize=10)
 
     if ax2 is not None:
@@ -1008,31 +1125,37 @@ def hysteresis_loop_figure(summary: dict, path) -> Path | None:
             ax2.plot(k[idx], sr[idx], color=color, lw=1.4, ls="--" if c == 0 else "-",
                      marker=_BRANCH_MARKERS.get(b, "o") if ms else None, ms=ms)
         # turning points (and A): a dotted line, the name along the top; primed points: beside them
+        names2 = []
         for i, name in letters.items():
             if name.endswith("'"):
                 if np.isfinite(sr[i]):
-                    ax2.annotate(name, (k[i], sr[i]), xytext=(5, 0), textcoords="offset points", fontsize=8,
-                                 fontweight="bold", ha="left", va="center", color="0.15")
+                    names2.append(ax2.annotate(name, (k[i], sr[i]), xytext=(5, 0), textcoords="offset points",
+                                               fontsize=10, fontweight="bold", ha="left", va="center", color="0.15"))
                 continue
             if name != "A":
                 ax2.axvline(k[i], color="0.5", lw=0.7, ls=":", zorder=0)
-            ax2.text(k[i], 1.075, name, ha="center", va="center", fontsize=8, fontweight="bold", color="0.15")
+            names2.append(ax2.annotate(name, (k[i], 1.075), xytext=(0, 0), textcoords="offset points", ha="center",
+                                       va="center", fontsize=10, fontweight="bold", color="0.15"))
         ax2.set_ylim(-0.03, 1.13)
         ax2.set_xlim(k0 - 0.04 * len(rows) - 0.5, k0 + 1.02 * len(rows) - 0.5)
         ax2.set_xlabel("step (summary.json index)")
         ax2.set_ylabel(r"stick ratio $A_\mathrm{stick}/A_\mathrm{c}$")
         ax2.grid(alpha=0.3)
         ax2.set_title("stick ratio along the path (\u25bc unloading, \u25b2 reloading)" if ms
-                      else "stick ratio along the path", fontsize=9)
+                      else "stick ratio along the path", fontsize=10)
+    # the names beside points at the ends of the range: inside the frame, off the tick labels
+    keep_inside(ax, names)
+    if ax2 is not None:
+        keep_inside(ax2, names2)
     return save_png(fig, path)
 
 
-def _label_points(ax, x, y, letters: dict) -> None:
+def _label_points(ax, x, y, letters: dict) -> list:
     """Mark and name Paper E's points on the loop: A a square, turning points filled, primed
     points open.  Turning points are named away from the loop's centre; a primed point (on the
     next branch, just after its turning point) outside that branch: below right after a
     maximum, above left after a minimum.  Points drawn at the same place share one name
-    ("D, L")."""
+    ("D, L").  Returns the name annotations."""
     xs = np.ptp(x) or 1.0
     ys = np.ptp(y) or 1.0
     cy = 0.5 * (y.max() + y.min())
@@ -1047,6 +1170,7 @@ def _label_points(ax, x, y, letters: dict) -> None:
                 break
         else:
             groups.append((i, [name], [i]))
+    out = []
     for i, names, members in groups:
         name = names[0]
         prime = name.endswith("'")
@@ -1065,9 +1189,10 @@ def _label_points(ax, x, y, letters: dict) -> None:
             off, ha = ((9, -9), "left") if up else ((-9, 9), "right")
         else:  # above a maximum, below a minimum
             off, ha = ((0, 12), "center") if up else ((0, -12), "center")
-        ax.annotate(", ".join(names), (x[i], y[i]), xytext=off, textcoords="offset points", fontsize=10,
-                    fontweight="bold", ha=ha, va="center", zorder=6,
-                    bbox={"boxstyle": "round,pad=0.1", "fc": "w", "ec": "none", "alpha": 0.7})
+        out.append(ax.annotate(", ".join(names), (x[i], y[i]), xytext=off, textcoords="offset points", fontsize=10,
+                               fontweight="bold", ha=ha, va="center", zorder=6,
+                               bbox={"boxstyle": "round,pad=0.1", "fc": "w", "ec": "none", "alpha": 0.7}))
+    return out
 
 
 def _stiffness_unit(values):
@@ -1108,8 +1233,10 @@ def _last_reloading_branch(summary: dict):
 def lateral_stiffness_figure(summary: dict, path) -> Path | None:
     """Lateral stiffness K_L against F_x/(mu F0+) at Paper F's points A, B, C (on the last
     branch from -F* to +F*): the fit of Paper F Eq. 3 (markers, and the fitted curve along the
-    branch), the Mindlin-Deresiewicz branch slope through the same turning point, and Paper F
-    Eq. 6's virgin-curve value.  None without ``summary["lateral_stiffness"]``.
+    branch), the slope of the geometry's analytic branch through the same turning point and its
+    virgin-curve value (a sphere: Mindlin-Deresiewicz and Paper F Eq. 6; a burl: the rounded
+    punch of Ciavarella-Jaeger; none for other geometries, :func:`kl_reference`).  None without
+    ``summary["lateral_stiffness"]``.
 
     Parameters
     ----------
@@ -1128,10 +1255,10 @@ def lateral_stiffness_figure(summary: dict, path) -> Path | None:
         return None
     xr = np.array([float(t["force_ratio"]) for t in table])
     kfit = np.array([float(t["stiffness"]) for t in table])
-    kmd = np.array([_num(t.get("mindlin_stiffness")) if _num(t.get("mindlin_stiffness")) is not None else np.nan
-                    for t in table])
-    kvir = np.array([_num(t.get("virgin_stiffness")) if _num(t.get("virgin_stiffness")) is not None else np.nan
-                     for t in table])
+    ref_name, _ = kl_reference(summary)
+    refs = np.array([_kl_reference_values(t) if ref_name else (np.nan, np.nan) for t in table], float).reshape(-1, 2)
+    kmd, kvir = refs[:, 0], refs[:, 1]
+    sphere = ref_name == "Mindlin-Deresiewicz"
     mu = _friction_coefficient(summary)
     f0p = _num(summary.get("repulsive_force"))
     if f0p is None:
@@ -1150,16 +1277,29 @@ def lateral_stiffness_figure(summary: dict, path) -> Path | None:
         d = np.interp(f, Fb[order], Db[order]) - Db[0]
         base = np.clip(1.0 - c2 * d, 1e-12, None)
         curves["fit"] = (f / (mu * f0p), c1 * c2 * n * base ** (n - 1.0))
-        # exact branch slope and virgin-curve slope from their K0 (taken from the table)
+        # exact branch slope and virgin-curve slope: the sphere's laws from their K0 (taken from
+        # the table), another geometry's from its reference
         fs = -Ft
         mp = mu * f0p
         grid = np.linspace(-fs, fs, 200) / mp
-        for key, vals, law in (("mindlin", kmd, lambda r: np.clip(1.0 - (fs / mp + r) / 2.0, 0, None) ** (1 / 3)),
-                               ("virgin", kvir, lambda r: np.clip(1.0 - np.abs(r), 0, None) ** (1 / 3))):
-            ok = np.isfinite(vals) & (law(xr) > 1e-6)
-            if ok.any():
-                k0 = float(np.median(vals[ok] / law(xr[ok])))
-                curves[key] = (grid, k0 * law(grid))
+        if sphere:
+            for key, vals, law in (("mindlin", kmd, lambda r: np.clip(1.0 - (fs / mp + r) / 2.0, 0, None) ** (1 / 3)),
+                                   ("virgin", kvir, lambda r: np.clip(1.0 - np.abs(r), 0, None) ** (1 / 3))):
+                ok = np.isfinite(vals) & (law(xr) > 1e-6)
+                if ok.any():
+                    k0 = float(np.median(vals[ok] / law(xr[ok])))
+                    curves[key] = (grid, k0 * law(grid))
+        elif ref_name:
+            from ..analytic.tangential_axisymmetric import lateral_reference
+            from ..errors import InputError
+
+            try:
+                model, _ = lateral_reference(summary.get("inputs") or {}, f0p, mu)
+                if model is not None:
+                    curves["mindlin"] = (grid, model.reloading_stiffness(grid * mp, fs))
+                    curves["virgin"] = (grid, model.virgin_stiffness(grid * mp))
+            except (InputError, TypeError, ValueError, KeyError):  # F* beyond mu F0+, an unreadable echo
+                curves.pop("mindlin", None)
     allk = np.concatenate([kfit, kmd, kvir] + [c[1] for c in curves.values()])
     kf, kl = _stiffness_unit(allk)
     fig = new_figure(6.2, 4.6)
@@ -1175,17 +1315,18 @@ def lateral_stiffness_figure(summary: dict, path) -> Path | None:
     if np.isfinite(kmd).any():
         if "mindlin" in curves:
             ax.plot(curves["mindlin"][0], curves["mindlin"][1] / kf, color="#d62728", lw=1.4,
-                    label="Mindlin-Deresiewicz branch slope")
+                    label=f"{ref_name} branch slope")
             ax.plot(xr, kmd / kf, "D", ms=5, color="#d62728", zorder=4)
         else:
-            ax.plot(xr, kmd / kf, "-D", ms=5, color="#d62728", lw=1.4, label="Mindlin-Deresiewicz branch slope")
+            ax.plot(xr, kmd / kf, "-D", ms=5, color="#d62728", lw=1.4, label=f"{ref_name} branch slope")
+    virgin_label = "virgin curve (Paper F Eq. 6)" if sphere else f"virgin curve, {ref_name}"
     if np.isfinite(kvir).any():
         if "virgin" in curves:
             ax.plot(curves["virgin"][0], curves["virgin"][1] / kf, color="#2a9d8f", lw=1.2, ls="--",
-                    label="virgin curve (Paper F Eq. 6)")
+                    label=virgin_label)
             ax.plot(xr, kvir / kf, "s", ms=5, mfc="w", mec="#2a9d8f", mew=1.3, zorder=4)
         else:
-            ax.plot(xr, kvir / kf, "--s", ms=5, color="#2a9d8f", mfc="w", lw=1.2, label="virgin curve (Paper F Eq. 6)")
+            ax.plot(xr, kvir / kf, "--s", ms=5, color="#2a9d8f", mfc="w", lw=1.2, label=virgin_label)
     top = np.nanmax(allk / kf)
     for t, x, k in zip(table, xr, kfit):
         ax.annotate(str(t.get("point", "")), (x, k / kf), xytext=(0, 11), textcoords="offset points",
@@ -1279,7 +1420,7 @@ def dissipation_figure(ds, path, cycle_index: int = -1, *, work: float | None = 
         fig.colorbar(im, ax=ax, shrink=0.85, label=f"({unit})")
     head = f"cycle {cyc}" + (f" at RH {100 * rh:.3g} %" if rh is not None else "")
     if work is not None:
-        head += f": dissipated energy {format_quantity(work, 'energy', 3)} (traction work)"
+        head += f": dissipated energy {format_value(work, 'energy', 3)} (traction work)"
     fig.suptitle(head, fontsize=10)
     return save_png(fig, path)
 

@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..units import display_unit, format_quantity
+from ..units import display_unit, format_value
 from .plotting import finite as _num
 from .plotting import friction_coefficient as _friction_coefficient
 from .plotting import is_hysteresis, new_figure, save_png
@@ -459,7 +459,7 @@ def humid_curve_figure(summary: dict, path) -> Path | None:
             db = np.array([float(rows[j]["displacement_x"]) for j in bad])
             ax.plot(db / df, fb / ff, "x", color="k", ms=7, zorder=6)
     if dry_sff is not None:
-        ax.axhline(dry_sff / ff, **_DRY_STYLE, label=f"dry static friction {format_quantity(dry_sff, 'force', 3)}")
+        ax.axhline(dry_sff / ff, **_DRY_STYLE, label=f"dry static friction {format_value(dry_sff, 'force', 3)}")
     ax.axhline(0.0, color="0.6", lw=0.6, zorder=0)
     ax.axvline(0.0, color="0.6", lw=0.6, zorder=0)
     handles, labels = ax.get_legend_handles_labels()

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..units import display_unit
 from .atomic import atomic_write_bytes
+from .plotting import legible
 
 __all__ = ["comparison_figure"]
 
@@ -38,7 +39,6 @@ def comparison_figure(cmp, path, center: bool = True) -> Path:
         The written file.
     """
     from matplotlib.figure import Figure
-
 
     sim, meas = cmp.simulated, cmp.measured
     fl, ll = display_unit(np.concatenate([sim.displacement, meas.displacement]), "length")
@@ -84,11 +84,14 @@ def comparison_figure(cmp, path, center: bool = True) -> Path:
     ax2.set_xlim(-0.03 * right / fl, 1.6 * right / fl)
     ax2.set_xlabel(f"displacement from the turning point ({ll})")
     ax2.set_ylabel(f"force from the turning point ({lf})")
-    ax2.set_title("(b) last rising branch from its turning point: Paper F Eq. 3 fits of the pre-sliding part\n"
-                  "K_L at A, B, C: F = -0.5, 0, +0.5 x scale (simulated: \u03bc F0+ = "
-                  f"{sim.force_scale / ff:.4g} {lf}; measured: max|F| = {meas.force_scale / ff:.4g} {lf})", fontsize=9)
+    # three short lines: the panel is half the figure wide, and the title may not run past it
+    ax2.set_title("(b) last rising branch from its turning point: Paper F Eq. 3 fits\n"
+                  "of the pre-sliding part; K_L at A, B, C: F = -0.5, 0, +0.5 x scale\n"
+                  f"(simulated: \u03bc F0+ = {sim.force_scale / ff:.4g} {lf}; "
+                  f"measured: max|F| = {meas.force_scale / ff:.4g} {lf})", fontsize=10)
     ax2.legend(fontsize=8, loc="lower right")
     ax2.grid(alpha=0.3)
+    legible(fig)  # 10 pt floor for the legends and the K_L annotations (drawn at 8 above)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=120)
     cmp.figure = atomic_write_bytes(Path(path), buf.getvalue())

@@ -13,9 +13,9 @@ import json
 import math
 from pathlib import Path
 
-from ..units import format_quantity
+from ..units import ZERO_FRACTION, format_quantity, format_value
 from .atomic import staged_source
-from .figures import is_hysteresis, mindlin_reference
+from .figures import _kl_reference_values, is_hysteresis, kl_reference, loop_reference
 from .atomic import atomic_write_text
 from .humid import is_humid_friction, per_rh, rh_groups, rh_label, rh_summary, zero_load_row
 from .summary import jsonable
@@ -26,7 +26,8 @@ _CAPTIONS = {
     "force_curve": "Force-approach curve: loading and unloading branches, pull-off and jumps marked.",
     "pressure": "Pressure map (positive compressive; tensile adhesive stresses in blue when present).",
     "contact": "Contact map: contact (g = 0), cohesive zone (adhesive stress outside contact), free.",
-    "profile": "Gap and pressure along the centre line.",
+    "profile": ("Gap and pressure along the line y = const through the largest pressure (the title gives its y; "
+                "the centre line when there is no pressure)."),
     "pressure_pulloff": "Pressure map at pull-off.",
     "contact_pulloff": "Contact map at pull-off.",
     "topography": "Initial gap and roughness of the bodies.",
@@ -38,14 +39,16 @@ _CAPTIONS = {
     "hysteresis_loop": ("Friction hysteresis loop: tangential force F\u2093 against the displacement \u03b4\u2093 of "
                         "body 2, one colour per cycle (cycle 0, the initial loading, dashed). Paper E's points: A "
                         "(start, F\u2093 = 0), A' (the step after it), the turning points D, H, L ... (filled) and the "
-                        "steps right after them D', H' ... (open). Grey band: the Mindlin-Deresiewicz loop, drawn "
-                        "for smooth bodies without normal-tangential coupling. Below: stick ratio A_stick / A_c "
+                        "steps right after them D', H' ... (open). Grey band: the analytic loop of the geometry (a "
+                        "sphere: Mindlin-Deresiewicz; a burl: the rounded punch of Ciavarella-Jaeger), drawn for "
+                        "smooth bodies without normal-tangential coupling. Below: stick ratio A_stick / A_c "
                         "along the path."),
     "lateral_stiffness": ("Lateral stiffness K_L at Paper F's points A, B, C (F\u2093 / (\u03bc F\u2080\u207a) = "
                           "-0.5, 0, 0.5 on the last branch from -F* to +F*; not Paper E's point A): fit of the "
                           "simulated branch (Paper F Eq. 3; thin line: the fitted K_L along the branch), the exact "
-                          "Mindlin-Deresiewicz slope of a branch from the same turning point, and the virgin-curve "
-                          "slope of Paper F Eq. 6."),
+                          "slope of the geometry's analytic branch from the same turning point and its virgin-curve "
+                          "slope (a sphere: Mindlin-Deresiewicz and Paper F Eq. 6; a burl: the rounded punch of "
+                          "Ciavarella-Jaeger; none for other geometries)."),
     "capillary_forces": ("Adhesive force components against RH (Paper B Fig. 13): capillary F_cap = dP_cap x the "
                          "meniscus area outside contact, solid-solid F_ss (Dugdale zone), water-solid F_ws (van der "
                          "Waals across water and across the air gap between the films) and their sum; crosses: RH "
@@ -162,6 +165,7 @@ figcaption{font-size:.85em;color:#555}pre{background:#f7f7f7;padding:1em;overflo
 .steps td{white-space:nowrap;padding:2px 5px}.steps th{padding:2px 5px}
 table{max-width:100%}td.l{overflow-wrap:anywhere}tr.dry td{background:#f3f3f3;font-style:italic}
 table.humid td{white-space:nowrap}.met{color:#1e7e34;font-weight:600}.unmet{color:#d93025;font-weight:600}
+tr.marked td{background:#fff8e1}td.stepnote{font-style:italic}
 """
 
 
@@ -178,7 +182,29 @@ def _fmt(value, dim) -> str:
         return "yes" if value else "no"
     if dim == "dimensionless":
         return f"{float(value):.4g}"
-    return format_quantity(value, dim, 4)
+    return format_value(value, dim, 4)  # rounded before the unit is chosen: 1 µN, not 1e+03 nN
+
+
+def _force_scale(steps) -> float:
+    """The run's force scale (N): the largest |F|, F+ or |F-| of its steps."""
+    return max((abs(float(st[k])) for st in steps for k in ("normal_force", "repulsive_force", "adhesive_force")
+                if isinstance(st.get(k), (int, float)) and not isinstance(st.get(k), bool)
+                and math.isfinite(float(st[k]))), default=0.0)
+
+
+def _step_notes(steps) -> dict:
+    """Step position -> what is special about it: the state a jump of the force-approach curve
+    lands on ("jump-in", "jump-off"), or a second state at the approach of the step before it
+    (another equilibrium of the same approach, reached from another start: the end of the
+    loading and the start of the unloading, or a refinement's re-solve)."""
+    notes = {}
+    for i in range(1, len(steps)):
+        a, b = steps[i - 1].get("approach"), steps[i].get("approach")
+        fa, fb = steps[i - 1].get("normal_force"), steps[i].get("normal_force")
+        if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (a, b, fa, fb)) \
+                and abs(a - b) <= 1e-9 * max(abs(a), abs(b), 1e-30) and fa != fb:
+            notes[i] = f"same \u03b4 as {i - 1}"
+    return notes
 
 
 def _caption(name: str) -> str:
@@ -206,6 +232,18 @@ def _figure_html(name: str, path, cls: str = "", caption: str | None = None) -> 
     c = f" class='{cls}'" if cls else ""
     text = _caption(name) if caption is None else caption
     return f"<figure{c}><img alt='{e(name)}' src='{_img(path)}'><figcaption>{e(text)}</figcaption></figure>"
+
+
+def _width_class(path) -> str:
+    """The figure class that shows a PNG at 0.7 of its pixels or more: "" (520 px wide) for a
+    one-panel figure, "mid" (700 px) or "wide" (the page) for a wider one (a topography with the
+    roughness maps beside the gap), whose labels would otherwise shrink below readable."""
+    with open(staged_source(path), "rb") as f:
+        head = f.read(24)  # PNG signature and IHDR: width at bytes 16-20
+    width = int.from_bytes(head[16:20], "big") if head[12:16] == b"IHDR" else 0
+    if width * 0.7 <= 520:
+        return ""
+    return "mid" if width * 0.7 <= 700 else "wide"
 
 
 def _is_hysteresis_figure(name: str) -> bool:
@@ -286,10 +324,10 @@ def _hysteresis_section(s: dict, figures: dict) -> list:
     area = list(s.get("dissipated_energy") or [])
     work = list(s.get("dissipation_work") or [])
     if area or work:
-        ref = mindlin_reference(s)
+        ref = loop_reference(s)  # the geometry's analytic loop (a sphere: Mindlin-Deresiewicz), or None
         parts.append("<h3>Dissipated energy per cycle</h3><table><tr><th>cycle</th>"
                      "<th>loop area \u222e F\u2093 d\u03b4\u2093</th><th>traction work \u2211 -q \u00b7 \u0394s</th>"
-                     "<th>work / area</th>" + ("<th>Mindlin-Deresiewicz W</th><th>area / W</th>" if ref else "")
+                     "<th>work / area</th>" + (f"<th>{e(ref['name'])} W</th><th>area / W</th>" if ref else "")
                      + "</tr>")
         for k in range(max(len(area), len(work))):
             a = _num(area[k]) if k < len(area) else None
@@ -300,7 +338,12 @@ def _hysteresis_section(s: dict, figures: dict) -> list:
                 cells += [_fmt(ref["energy"], "energy"), f"{a / ref['energy']:.4f}" if a is not None else "n/a"]
             parts.append("<tr>" + "".join(f"<td>{e(c)}</td>" for c in cells) + "</tr>")
         parts.append("</table>")
-        if ref:
+        if ref and "model" in ref:
+            parts.append(f"<p class='muted'>{e(ref['name'])}: W = 4 F* \u03b4(F*) - 8 \u222b\u2080^F* \u03b4 dF "
+                         "between the Masing branches of the virgin curve \u03b4(F) = (\u03bc E* k / 4) [d(P) - "
+                         "d(P - F/\u03bc)], d the approach of the frictionless normal solution, P = F\u2080\u207a, "
+                         "k = \u2211 (2 - \u03bd)/G.</p>")
+        elif ref:
             parts.append("<p class='muted'>Mindlin-Deresiewicz: W = (9 \u03bc\u00b2 P\u00b2 k / (10 a)) "
                          "[1 - (1 - r)^(5/3) - (5 r / 6)(1 + (1 - r)^(2/3))], r = F* / (\u03bc P), P = F\u2080\u207a, "
                          "a from the "
@@ -310,19 +353,29 @@ def _hysteresis_section(s: dict, figures: dict) -> list:
     # lateral stiffness (Paper F)
     table = [t for t in (s.get("lateral_stiffness") or []) if isinstance(t, dict)]
     if table:
+        # the analytic reference of the run's geometry (Mindlin-Deresiewicz for a sphere, the rounded
+        # punch of Ciavarella-Jaeger for a burl), or none: a sphere's law applied to a punch misleads
+        ref_name, ref_note = kl_reference(s)
+        virgin = "K_L virgin (Paper F Eq. 6)" if ref_name == "Mindlin-Deresiewicz" else f"K_L virgin, {ref_name}"
         parts.append("<h3>Lateral stiffness (Paper F)</h3><table><tr><th>point</th>"
                      "<th>F\u2093 / (\u03bc F\u2080\u207a)</th><th>F\u2093</th><th>\u03b4\u2093</th>"
-                     "<th>K_L fit (Eq. 3)</th><th>K_L Mindlin-Deresiewicz</th><th>K_L virgin (Paper F Eq. 6)</th>"
-                     "<th>fit / Mindlin-Deresiewicz</th></tr>")
+                     "<th>K_L fit (Eq. 3)</th>"
+                     + (f"<th>K_L {e(ref_name)}</th><th>{e(virgin)}</th><th>fit / {e(ref_name)}</th>" if ref_name else "")
+                     + "</tr>")
         for t in table:
-            k, md = _num(t.get("stiffness")), _num(t.get("mindlin_stiffness"))
+            k = _num(t.get("stiffness"))
+            md, vir = _kl_reference_values(t)
+            md, vir = (md if math.isfinite(md) else None), (vir if math.isfinite(vir) else None)
             ratio = f"{k / md:.4f}" if k is not None and md else "n/a"
             fr = _num(t.get("force_ratio"))
             cells = [str(t.get("point", "")), f"{fr:+.2f}" if fr is not None else "n/a",
-                     _fmt(t.get("tangential_force"), "force"), _fmt(t.get("displacement"), "length"),
-                     _stiffness(k), _stiffness(md), _stiffness(t.get("virgin_stiffness")), ratio]
+                     _fmt(t.get("tangential_force"), "force"), _fmt(t.get("displacement"), "length"), _stiffness(k)]
+            if ref_name:
+                cells += [_stiffness(md), _stiffness(vir), ratio]
             parts.append("<tr>" + "".join(f"<td>{e(c)}</td>" for c in cells) + "</tr>")
         parts.append("</table>")
+        if not ref_name:
+            parts.append(f"<p class='note'>K_L: {e(ref_note)}.</p>")
         fit = s.get("lateral_stiffness_fit") or {}
         if all(_num(fit.get(x)) is not None for x in ("c1", "c2", "n")):
             parts.append(f"<p class='muted'>Fit F\u2093 - F_turn = c\u2081 (1 - (1 - c\u2082 \u03b4)^n) on the last "
@@ -674,7 +727,12 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
         if s.get(key) is not None and not isinstance(s[key], list):  # a humid pull-off's list: its own section
             rows.append((label, _fmt(s[key], dim)))
     band = s.get("cohesive_edge")
-    if isinstance(band, dict) and band.get("fraction") is not None:
+    if isinstance(band, dict) and band.get("fraction") is None and band.get("resolved") is False:
+        # too coarse for the band to mean anything: say so rather than print a number
+        rows.append(("grid band of the Dugdale equilibria",
+                     f"not resolved: {band.get('reason') or 'the cohesive zone is below a cell'}; the adhesive "
+                     "forces are set by a few cells"))
+    elif isinstance(band, dict) and band.get("fraction") is not None:
         # the grid's band of Dugdale equilibria (output/checks.py, cohesive_edge)
         rows.append(("grid band of the Dugdale equilibria",
                      f"{band.get('nodes')} cohesive-zone edge nodes consistent in and out of the zone, "
@@ -691,7 +749,9 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
                              f"{format_quantity(g['ly'], 'length')}, {'periodic' if g.get('periodic') else 'free boundary'}"))
     if steps:
         last = max(steps, key=lambda st: st.get("normal_force") or float("-inf"))
-        rows.append(("max normal force", _fmt(last.get("normal_force"), "force")))
+        # a state solved at zero load (-4e-13 N of a 2.5e-7 N run) reads 0 N, not -427.5 fN
+        rows.append(("max normal force", format_value(last.get("normal_force"), "force", 4,
+                                                      scale=_force_scale(steps))))
         rows.append(("contact area at max force", _fmt(last.get("contact_area"), "area")))
         rows.append(("max pressure", _fmt(max((st.get("max_pressure") or 0) for st in steps), "pressure")))
     for body, st in (prob.get("roughness") or {}).items():
@@ -729,18 +789,25 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
     if figures:
         parts.append("<h2>Figures</h2>")
         for name, path in figures.items():
-            parts.append(_figure_html(name, path))
+            parts.append(_figure_html(name, path, _width_class(path)))
 
     if steps:
         cols = [(k, h, d) for k, h, d, optional in _STEP_COLUMNS
                 if not optional or any(st.get(k) is not None for st in steps)]
+        notes = _step_notes(steps)
+        for j in s.get("jumps") or []:  # the state a jump lands on
+            if isinstance(j.get("index"), int) and 0 <= j["index"] < len(steps):
+                notes[j["index"]] = "; ".join(filter(None, (str(j.get("kind") or "jump"), notes.get(j["index"]))))
         parts.append(f"<h2>Steps ({len(steps)})</h2><div class='scroll'><table class='steps'><tr><th>#</th>"
-                     + "".join(f"<th>{e(c[1])}</th>" for c in cols) + "</tr>")
+                     + "".join(f"<th>{e(c[1])}</th>" for c in cols) + ("<th class='l'>note</th>" if notes else "")
+                     + "</tr>")
         show = steps if len(steps) <= 200 else steps[:100] + steps[-100:]
         # round-off (a tangential force of 1e-22 N at F_x = 0) prints as 0: below 1e-9 of the
         # column's largest magnitude, far below any solver tolerance
         tiny = {k: 1e-9 * max((abs(st.get(k)) for st in steps if isinstance(st.get(k), (int, float))
                                and not isinstance(st.get(k), bool)), default=0.0) for k, _, _ in cols}
+        # the net normal force: solver noise below ZERO_FRACTION of the run's forces (units.format_value)
+        tiny["normal_force"] = max(tiny.get("normal_force", 0.0), ZERO_FRACTION * _force_scale(steps))
 
         def cell(st, k, d):
             v = st.get(k)
@@ -754,8 +821,21 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
                 parts.append(f"<tr><td>...</td><td colspan='{len(cols)}' class='l'>{len(steps) - 200} steps hidden "
                              "(summary.json has every step)</td></tr>")
             cells = "".join(f"<td>{e(cell(st, k, d))}</td>" for k, _, d in cols)
-            parts.append(f"<tr><td>{idx}</td>{cells}</tr>")
+            if notes:
+                cells += f"<td class='l stepnote'>{e(notes.get(idx, ''))}</td>"
+            tr = "<tr class='marked'>" if idx in notes else "<tr>"
+            parts.append(f"{tr}<td>{idx}</td>{cells}</tr>")
         parts.append("</table></div>")
+        said = []
+        if any("jump" in n for n in notes.values()):
+            said.append("jump-in, jump-off: the state a jump of the force-approach curve lands on")
+        if any("same" in n for n in notes.values()):
+            said.append("\u201csame \u03b4 as k\u201d: a second equilibrium at the approach of step k, with another "
+                        "force: the adhesive contact has several states at one approach, and this one was reached "
+                        "from another start (the end of the loading and the start of the unloading, or the "
+                        "refinement around the pull-off re-solving a point of the curve)")
+        if said:
+            parts.append(f"<p class='muted'>note: {e('; '.join(said))}.</p>")
     if s.get("jumps"):
         parts.append("<h2>Jumps</h2><ul>")
         for j in s["jumps"]:
