@@ -381,8 +381,8 @@ def format_value(value, dimension: str, digits: int = 3, scale=None, zero_fracti
     solver noise against ``scale``.
 
     As :func:`format_quantity` (the value rounded to ``digits`` significant digits before its
-    unit is chosen: ``"1 µN"``, not ``"1e+03 nN"``), and a value whose magnitude is at most ``zero_fraction`` x ``|scale|`` prints as
-    ``"0 <SI unit>"`` (e.g. the -4e-13 N of a state solved at zero load, against a run's
+    unit is chosen: ``"1 µN"``, not ``"1e+03 nN"``), and a value whose magnitude is at most
+    ``zero_fraction`` x ``|scale|`` prints as ``"0 <SI unit>"`` (e.g. the -4e-13 N of a state solved at zero load, against a run's
     force of 2.5e-7 N).
 
     Parameters
