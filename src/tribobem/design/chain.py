@@ -38,6 +38,7 @@ from ..errors import InputError
 from ..output.atomic import atomic_write_text
 from ..runs import KINDS
 from ..runs.kind import ALL, SECTIONS
+from ..scenario.schema import adhesion_model
 from ..sweep.values import _canonical, _jsonable, apply_overrides
 from ..units import to_si
 
@@ -294,8 +295,7 @@ def run_chain(scenario: Mapping, chain: Mapping, base_dir=None) -> dict:
 
         # 2. pull-off from the clamp load
         adh = scenario.get("adhesion") or {}
-        sticky = humid or (adh.get("model") != "none" and (adh.get("model") == "dugdale" or
-                                                             adh.get("work_of_adhesion") is not None))
+        sticky = humid or adhesion_model(adh) != "none"  # any registered stress law but none
         if chain.get("pulloff", True) and not sticky:
             values["pull_off_force"] = 0.0
             stages["pulloff"] = {"status": "skipped", "message": "no adhesion and no humidity: pull-off force 0 N",

@@ -8,19 +8,23 @@ An interaction tells the normal solver two things (the one interface every term 
   whose gap is ``gap``.
 
 New physics (capillary bridges, water-solid van der Waals) is a new file here implementing
-this protocol, not a copy of the solver.
+this protocol, not a copy of the solver.  A law may also declare what the solvers, checks and
+report may do with it (``windowable``, ``summary_info``, ``result_checks``, ``report_rows``:
+:mod:`~tribobem.interactions.base`), and a law a scenario names in ``[adhesion] model`` is
+registered in :mod:`~tribobem.interactions.registry` with the spec of its table.
 """
 
 from .base import Interaction, NoInteraction
 from .capillary import CapillaryInteraction, ForceSplit
 from .dugdale import DugdaleAdhesion
+from .registry import LAWS, LawContext, StressLaw, register_law
 from .menisci import Islands, contribution_coefficient, meniscus_islands
 from .van_der_waals import VanDerWaals, combine_hamaker
 from .films import FilmResult, film_thickness, levelling_time
 from .isotherms import SI, SIO2, DryIsotherm, FHHIsotherm, Isotherm, TableIsotherm, isotherm_from_spec
 from .water import Water, check_rh
 
-__all__ = ["Interaction", "NoInteraction", "DugdaleAdhesion",
+__all__ = ["Interaction", "NoInteraction", "DugdaleAdhesion", "LAWS", "LawContext", "StressLaw", "register_law",
            "Water", "check_rh", "Isotherm", "TableIsotherm", "FHHIsotherm", "DryIsotherm", "SIO2", "SI",
            "isotherm_from_spec", "FilmResult", "film_thickness", "levelling_time",
            "CapillaryInteraction", "ForceSplit", "Islands", "meniscus_islands", "contribution_coefficient",

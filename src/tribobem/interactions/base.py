@@ -15,6 +15,22 @@ fixed-point update of the load (no restart of its conjugate directions), and a c
 piece, like a change of the contact set, as a change of the problem.  Without the method
 (Dugdale: a step law; no interaction) every change of an outside stress counts as a change of
 the problem, as before.
+
+Optional, what callers would otherwise find out from the law's type (each read through the
+helper of the same purpose below, which supplies the default for a law that does not declare
+it; :mod:`tribobem.interactions.registry` ties a law to its ``[adhesion]`` table):
+
+* ``windowable`` (bool, default False): the law depends on the gap alone and vanishes beyond a
+  finite range, so that :mod:`tribobem.solvers.window` may solve a free-boundary step on a
+  window of the grid (:func:`law_windowable`);
+* ``summary_info(radius, effective_modulus)``: the law's derived scalars for summary.json
+  ``problem`` (Dugdale: sigma0, h0, the Tabor and Maugis parameters; default none,
+  :func:`law_summary_info`);
+* ``result_checks`` (set of check names of :data:`tribobem.output.checks.CHECKS`, default
+  none): the law-specific resolution checks that apply to its runs (the cohesive-zone checks
+  of a cohesive-zone law with a stress ``sigma0`` and a range ``h0``, :func:`law_result_checks`);
+* ``report_rows`` (class attribute, default none): ``(key, label, dimension)`` of the keys of
+  ``summary_info`` that the HTML report lists under the problem's scalars.
 """
 
 from __future__ import annotations
@@ -51,6 +67,8 @@ class NoInteraction:
 
     floor = 0.0
     range = 0.0
+    #: Nothing acts outside the contact: a window solve is exact.
+    windowable = True
 
     def outside_stress(self, gap, xp):
         """Zero traction (Pa) on every non-contact node.
@@ -72,3 +90,55 @@ class NoInteraction:
 
     def __repr__(self) -> str:
         return "NoInteraction()"
+
+
+def law_windowable(law) -> bool:
+    """Whether a window solve may use this law (its declared ``windowable``; default False).
+
+    Parameters
+    ----------
+    law : Interaction or None
+        The stress law outside contact; None: no law (a window is exact).
+
+    Returns
+    -------
+    bool
+    """
+    return law is None or bool(getattr(law, "windowable", False))
+
+
+def law_summary_info(law, radius: float | None = None, effective_modulus: float | None = None) -> dict:
+    """The law's derived scalars for summary.json ``problem`` (its ``summary_info``; default none).
+
+    Parameters
+    ----------
+    law : Interaction or None
+        The stress law outside contact.
+    radius : float, optional
+        Composite sphere radius R (m), when the bodies have one.
+    effective_modulus : float, optional
+        Composite modulus E* (Pa); None when both bodies are rigid.
+
+    Returns
+    -------
+    dict
+        Key -> value (SI), in the order summary.json lists them; empty without a law.
+    """
+    info = getattr(law, "summary_info", None)
+    return dict(info(radius, effective_modulus)) if info is not None else {}
+
+
+def law_result_checks(law) -> frozenset:
+    """The law-specific checks of :mod:`tribobem.output.checks` that apply to the law's runs.
+
+    Parameters
+    ----------
+    law : Interaction or None
+        The stress law outside contact.
+
+    Returns
+    -------
+    frozenset of str
+        Check names (its declared ``result_checks``); empty without a law or a declaration.
+    """
+    return frozenset(getattr(law, "result_checks", ()) or ())

@@ -29,11 +29,64 @@ class DugdaleAdhesion:
     work_of_adhesion: float
     z0: float
 
+    #: A step law of finite range h0 that depends on the gap alone: a window solve is exact
+    #: (the check after each step grows the window when the zone reaches its edge).
+    windowable = True
+    #: The cohesive-zone resolution checks of :mod:`tribobem.output.checks` (they read
+    #: ``sigma0`` and ``h0``).
+    result_checks = frozenset({"cohesive_zone", "cohesive_range", "cohesive_edge"})
+    #: The rows of :meth:`summary_info` in the HTML report: (key, label, dimension).
+    report_rows = (
+        ("sigma0", "Dugdale stress \u03c3\u2080", "pressure"),
+        ("h0", "Dugdale range h\u2080", "length"),
+        ("tabor_parameter", "Tabor parameter \u03bc_T", "dimensionless"),
+        ("maugis_parameter", "Maugis parameter \u03bb", "dimensionless"),
+    )
+
     def __post_init__(self):
         if not (math.isfinite(self.work_of_adhesion) and self.work_of_adhesion > 0):
             raise InputError("adhesion.work_of_adhesion", f"must be > 0 J/m^2, got {self.work_of_adhesion!r}")
         if not (math.isfinite(self.z0) and self.z0 > 0):
             raise InputError("adhesion.z0", f"must be > 0 m, got {self.z0!r}")
+
+    @classmethod
+    def from_spec(cls, spec, context=None) -> "DugdaleAdhesion":
+        """The law of an ``[adhesion]`` table with ``model = "dugdale"`` (its registry builder).
+
+        Parameters
+        ----------
+        spec : DugdaleAdhesionSpec
+            The validated table: ``work_of_adhesion`` (J/m^2) and ``z0`` (m).
+        context : LawContext, optional
+            The problem (unused: the law depends on its own keys alone).
+
+        Returns
+        -------
+        DugdaleAdhesion
+        """
+        return cls(spec.work_of_adhesion, spec.z0)
+
+    def summary_info(self, radius: float | None = None, effective_modulus: float | None = None) -> dict:
+        """sigma0 (Pa) and h0 (m), and for a sphere the Tabor and Maugis parameters.
+
+        Parameters
+        ----------
+        radius : float, optional
+            Composite sphere radius R (m); None: no sphere, no Tabor or Maugis parameter.
+        effective_modulus : float, optional
+            Composite modulus E* (Pa); None (both bodies rigid): no Tabor or Maugis parameter.
+
+        Returns
+        -------
+        dict
+            ``sigma0``, ``h0`` and, with both arguments, ``tabor_parameter`` and
+            ``maugis_parameter`` (summary.json ``problem``).
+        """
+        info = {"sigma0": self.sigma0, "h0": self.h0}
+        if radius is not None and effective_modulus is not None:
+            info["tabor_parameter"] = self.tabor_parameter(radius, effective_modulus)
+            info["maugis_parameter"] = self.maugis_parameter(radius, effective_modulus)
+        return info
 
     @classmethod
     def from_stress(cls, sigma0: float, h0: float) -> "DugdaleAdhesion":

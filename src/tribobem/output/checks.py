@@ -52,6 +52,7 @@ import math
 from typing import Mapping, Sequence
 
 import numpy as np
+from ..interactions.base import law_result_checks
 from ..units import format_quantity
 
 __all__ = [
@@ -370,8 +371,9 @@ def cohesive_edge_band(results: Sequence, interaction, effective_modulus: float 
     results : sequence of NormalResult
         The solved states of a run.
     interaction : Interaction or None
-        The stress law outside contact; only :class:`~tribobem.interactions.dugdale.DugdaleAdhesion`
-        has the band (None otherwise).
+        The stress law outside contact; only a law that declares the ``cohesive_edge`` check
+        (:func:`~tribobem.interactions.base.law_result_checks`: Dugdale) has the band (None
+        otherwise).
     effective_modulus : float or None
         Composite modulus E* of the pair (Pa); None: no band.
 
@@ -384,9 +386,8 @@ def cohesive_edge_band(results: Sequence, interaction, effective_modulus: float 
         the first state that is not resolved; None without Dugdale adhesion, E* or a state with
         an adhesive force and a cohesive zone.
     """
-    from ..interactions.dugdale import DugdaleAdhesion
-
-    if not isinstance(interaction, DugdaleAdhesion) or not effective_modulus or effective_modulus <= 0:
+    if ("cohesive_edge" not in law_result_checks(interaction)
+            or not effective_modulus or effective_modulus <= 0):
         return None
     res = [r for r in results if r is not None]
     if not res:
@@ -475,7 +476,9 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
     periodic : bool
         The grid is periodic (no edge check).
     interaction : Interaction, optional
-        The stress law outside contact (Dugdale: cohesive-zone checks).
+        The stress law outside contact: the checks it declares
+        (:func:`~tribobem.interactions.base.law_result_checks`; Dugdale: the cohesive-zone
+        checks, which read its ``sigma0`` and ``h0``) run.
     radius : float, optional
         Composite sphere radius (m), for the contact-size check.
     tangential : sequence of TangentialResult, optional
@@ -513,8 +516,9 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
             out.append(f"edge: the contact or the cohesive zone touches the edge of the free-boundary domain in "
                        f"{len(touching)} of {len(res)} saved state(s): the domain truncates it; enlarge grid.size")
     in_contact = [r for r in res if np.asarray(r.contact, bool).any()]
-    h0 = getattr(interaction, "h0", None) if interaction is not None else None
-    if h0:
+    declared = law_result_checks(interaction)
+    h0 = interaction.h0 if declared & {"cohesive_zone", "cohesive_edge", "cohesive_range"} else None
+    if h0 and "cohesive_zone" in declared:
         widths = [cohesive_cells(r) for r in in_contact]
         widths = [w for w in widths if math.isfinite(w)]
         if widths:
@@ -524,9 +528,11 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
                 out.append(f"cohesive_zone: the cohesive zone is {what} (fewer than {MIN_COHESIVE_CELLS:g}): "
                            "adhesive and pull-off forces are set by the grid, not resolved; refine grid.n or "
                            "shrink the domain")
+    if h0 and "cohesive_edge" in declared:
         edge = _cohesive_edge_warning(res, interaction, effective_modulus) if grid_band else None
         if edge:
             out.append(edge)
+    if h0 and "cohesive_range" in declared:
         steps = [cohesive_gap_step(r) for r in in_contact]
         steps = [s for s in steps if math.isfinite(s)]
         if steps and max(steps) > MAX_GAP_STEP * h0:

@@ -13,6 +13,7 @@ import json
 import math
 from pathlib import Path
 
+from ..interactions.registry import report_rows as law_report_rows
 from ..units import ZERO_FRACTION, format_quantity, format_value
 from .atomic import staged_source
 from .figures import _kl_reference_values, is_hysteresis, kl_reference, loop_reference
@@ -96,13 +97,10 @@ _RUN_SCALARS = (
     ("peak_capillary_force", "peak capillary force F_cap (most tensile)", "force"),
     ("peak_capillary_rh", "RH at the peak capillary force", "dimensionless"),
 )
+# (the stress laws' own rows follow them: each law's ``report_rows``, interactions/registry.py)
 _PROBLEM_SCALARS = (
     ("effective_modulus", "effective modulus E*", "pressure"),
     ("radius", "sphere radius R", "length"),
-    ("sigma0", "Dugdale stress \u03c3\u2080", "pressure"),
-    ("h0", "Dugdale range h\u2080", "length"),
-    ("tabor_parameter", "Tabor parameter \u03bc_T", "dimensionless"),
-    ("maugis_parameter", "Maugis parameter \u03bb", "dimensionless"),
 )
 # run-level scalars of the tangential kinds (partial_slip, hysteresis)
 _FRICTION_SCALARS = (
@@ -740,7 +738,7 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
                      f"\u00b1{100 * float(band['fraction']):.1f} %"
                      + (", loop energies several times that" if s.get("dissipated_energy") else "")))
     prob = s.get("problem", {}) or {}
-    for key, label, dim in _PROBLEM_SCALARS:
+    for key, label, dim in _PROBLEM_SCALARS + law_report_rows():
         if prob.get(key) is not None:
             rows.append((label, _fmt(prob[key], dim)))
     g = prob.get("grid")

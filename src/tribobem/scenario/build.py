@@ -37,8 +37,9 @@ from ..data import DATA_PREFIX, topography_path
 from ..elasticity.backend import default_workers
 from ..elasticity.operators import make_operator
 from ..geometry import stats as geostats, read_topography, unit_to_metres, Topography
-from ..interactions import DugdaleAdhesion
+from ..interactions.base import law_summary_info
 from ..interactions.isotherms import isotherm_from_spec
+from ..interactions.registry import LawContext, get_law
 from ..interactions.van_der_waals import DEFAULT_CUTOFF, HAMAKER_SI, HAMAKER_SIO2
 from ..interactions.water import Water
 
@@ -63,7 +64,8 @@ class Problem:
         texture plus waviness.
     shape1, shape2 : ndarray
         The bodies' shapes (m, convex toward the other body).
-    interaction : DugdaleAdhesion or None
+    interaction : Interaction or None
+        The stress law of ``[adhesion]`` (its registered builder's; None without one).
     humidity : HumiditySetup or None
         The water, isotherms, Hamaker constants and meniscus options of a capillary run (or a
         humid pull-off); None without ``[humidity]``.
@@ -259,7 +261,7 @@ def humidity_setup(sc: Scenario, shape1, shape2, rough1, rough2) -> HumiditySetu
                                  "with a finite thickness at RH = 1")
     if hum.cutoff is not None:
         cutoff = float(hum.cutoff)
-    elif sc.adhesion.z0 is not None:
+    elif getattr(sc.adhesion, "z0", None) is not None:  # a law with a Lennard-Jones z0 (none, dugdale)
         cutoff = float(sc.adhesion.z0)
     else:
         cutoff = DEFAULT_CUTOFF
@@ -631,12 +633,11 @@ def _build_problem(scenario: Scenario, base_dir) -> Problem:
         # to another branch
         info["fft"] = op.backend.fft
 
-    interaction = None
-    if sc.adhesion.enabled:
-        interaction = DugdaleAdhesion(sc.adhesion.work_of_adhesion, sc.adhesion.z0)
+    # the registered law of [adhesion] (interactions/registry.py); None: no stress law
+    E_star = pair.effective_modulus if pair is not None else None  # None: both bodies rigid
+    interaction = get_law(sc.adhesion.model).build(sc.adhesion, LawContext(grid, E_star))
     humidity = humidity_setup(sc, shape1, shape2, rough1, rough2)
 
-    E_star = pair.effective_modulus if pair is not None else None  # None: both bodies rigid
     info.update({
         "grid": {"nx": grid.nx, "ny": grid.ny, "lx": grid.lx, "ly": grid.ly, "dx": grid.dx, "dy": grid.dy,
                  "periodic": grid.periodic},
@@ -647,12 +648,7 @@ def _build_problem(scenario: Scenario, base_dir) -> Problem:
     radius = _sphere_radius(sc)
     if radius is not None:
         info["radius"] = radius
-    if interaction is not None:
-        info["sigma0"] = interaction.sigma0
-        info["h0"] = interaction.h0
-        if radius is not None and E_star is not None:
-            info["tabor_parameter"] = interaction.tabor_parameter(radius, E_star)
-            info["maugis_parameter"] = interaction.maugis_parameter(radius, E_star)
+    info.update(law_summary_info(interaction, radius, E_star))  # the law's own scalars (Dugdale: sigma0, h0, ...)
     for name, h in stats_of.items():
         kind = getattr(sc, name).roughness.kind
         if kind != "none":

@@ -21,14 +21,18 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal, Optional, Union
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, StrictBool, ValidationError, model_validator
+from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainValidator, SerializeAsAny, StrictBool,
+                      TypeAdapter, ValidationError, model_validator)
 from pydantic_core import PydanticCustomError
 
 from ..errors import InputError
 from ..runs import KINDS as RUN_KINDS
 from ..runs import RUNNERS
 from ..units import DIMENSIONS, UnitMismatch, convert
+from ..interactions.base import NoInteraction
+from ..interactions.dugdale import DugdaleAdhesion
 from ..interactions.isotherms import isotherm_from_spec
+from ..interactions.registry import LAWS, one_of, register_law
 from ..units import registry
 
 __all__ = [
@@ -41,6 +45,9 @@ __all__ = [
     "BodySpec",
     "LoadSpec",
     "AdhesionSpec",
+    "NoAdhesionSpec",
+    "DugdaleAdhesionSpec",
+    "adhesion_model",
     "FrictionSpec",
     "HumiditySpec",
     "SolverSpec",
@@ -676,29 +683,137 @@ class LoadSpec(Section):
         return [k for k in ("force", "approach", "forces", "approaches") if getattr(self, k) is not None]
 
 
+# ----------------------------------------------------------------------------- adhesion: the stress laws
 class AdhesionSpec(Section):
-    """``[adhesion]``: ``model`` (none | dugdale; default dugdale when a work of adhesion is
-    given), ``work_of_adhesion`` (J/m^2), ``z0`` (m)."""
+    """``[adhesion]``: the stress law that acts outside the contact, chosen by ``model``; the
+    other keys are the law's (:class:`NoAdhesionSpec`, :class:`DugdaleAdhesionSpec`).
 
-    model: Optional[Literal["none", "dugdale"]] = None
+    ======  ====  ========  ==========================================================
+    key     unit  default   meaning
+    ======  ====  ========  ==========================================================
+    model   -     see text  the law, a name of the stress-law registry
+                            (:data:`tribobem.interactions.registry.LAWS`): ``"none"``
+                            or ``"dugdale"``; left out: ``"dugdale"`` when
+                            ``work_of_adhesion`` is given, else ``"none"``
+    ======  ====  ========  ==========================================================
+
+    An unknown ``model`` is an error that lists the registered ones.  Each law's table is a
+    subclass of this model whose ``model`` is ``Literal[name]``, registered beside its law with
+    :func:`tribobem.interactions.registry.register_law`.
+    """
+
+    model: Optional[str] = None
+
+    @classmethod
+    def model_validate(cls, obj, *args, **kwargs):
+        """Validate a table; on this base class, with the spec of the registered law its
+        ``model`` names (the tagged union :data:`Adhesion`), on a law's spec as that spec."""
+        if cls is AdhesionSpec:
+            return _ADHESION.validate_python(obj, *args, **kwargs)
+        return super().model_validate(obj, *args, **kwargs)
+
+    @property
+    def enabled(self) -> bool:
+        """Whether a stress law acts outside the contact (every law but ``none``)."""
+        return True
+
+
+class NoAdhesionSpec(AdhesionSpec):
+    """``[adhesion] model = "none"`` (also no ``[adhesion]`` at all): no stress outside the
+    contact, a compressive contact pressure.
+
+    ================  ======  ========  ================================================
+    key               unit    default   meaning
+    ================  ======  ========  ================================================
+    model             -       "none"    no stress law
+    work_of_adhesion  J/m^2   none      unused (accepted, so that a sweep may switch
+                                        Dugdale on by ``model`` alone)
+    z0                m       none      unused but as the default of ``humidity.cutoff``
+    ================  ======  ========  ================================================
+    """
+
+    model: Literal["none"] = "none"
+    work_of_adhesion: Optional[Quantity("surface_energy", gt=0)] = None
+    z0: Optional[Quantity("length", gt=0)] = None
+
+    @property
+    def enabled(self) -> bool:
+        """False: no stress law acts outside the contact."""
+        return False
+
+
+class DugdaleAdhesionSpec(AdhesionSpec):
+    """``[adhesion] model = "dugdale"``: the Dugdale (Maugis) cohesive zone
+    (:class:`~tribobem.interactions.dugdale.DugdaleAdhesion`), a tension sigma0 = 16 dgamma /
+    (9 sqrt3 z0) where the gap is below h0 = dgamma / sigma0.
+
+    ================  ======  ========  ================================================
+    key               unit    default   meaning
+    ================  ======  ========  ================================================
+    model             -       "dugdale"  the Dugdale law (the default when
+                                        ``work_of_adhesion`` is given)
+    work_of_adhesion  J/m^2   required  work of adhesion dgamma, > 0
+    z0                m       required  equilibrium separation of the Lennard-Jones
+                                        potential, > 0 (typically 0.2-0.4 nm)
+    ================  ======  ========  ================================================
+    """
+
+    model: Literal["dugdale"] = "dugdale"
     work_of_adhesion: Optional[Quantity("surface_energy", gt=0)] = None
     z0: Optional[Quantity("length", gt=0)] = None
 
     @model_validator(mode="after")
     def _complete(self):
-        if self.model is None:
-            self.model = "dugdale" if self.work_of_adhesion is not None else "none"
-        if self.model == "dugdale":
-            if self.work_of_adhesion is None:
-                _fail("work_of_adhesion", "required with model = 'dugdale' (e.g. \"50 mJ/m^2\")")
-            if self.z0 is None:
-                _fail("z0", "required with model = 'dugdale' (e.g. \"0.3 nm\")")
+        if self.work_of_adhesion is None:
+            _fail("work_of_adhesion", "required with model = 'dugdale' (e.g. \"50 mJ/m^2\")")
+        if self.z0 is None:
+            _fail("z0", "required with model = 'dugdale' (e.g. \"0.3 nm\")")
         return self
 
-    @property
-    def enabled(self) -> bool:
-        """Whether Dugdale adhesion is on (``model = "dugdale"``)."""
-        return self.model == "dugdale"
+
+# The built-in laws (a new law: its module in tribobem/interactions/, its spec above, one line here).
+register_law("none", NoAdhesionSpec, NoInteraction, build=lambda spec, context: None)  # None: no law
+register_law("dugdale", DugdaleAdhesionSpec, DugdaleAdhesion)
+
+
+def adhesion_model(table: Any) -> Any:
+    """The law an ``[adhesion]`` table names: its ``model``, else ``"dugdale"`` when it gives a
+    work of adhesion, else ``"none"``.
+
+    Parameters
+    ----------
+    table : dict
+        The raw ``[adhesion]`` table.
+
+    Returns
+    -------
+    str
+        The tag (not checked against the registry: an unknown ``model`` is returned as given).
+    """
+    model = table.get("model")
+    if model is None:
+        return "dugdale" if table.get("work_of_adhesion") is not None else "none"
+    return model
+
+
+def _adhesion_law(raw):
+    """Validate ``[adhesion]`` with the spec of the registered law its ``model`` names (a tagged
+    union over the registry, read at validation time, so that a law registered later counts)."""
+    if isinstance(raw, AdhesionSpec):
+        return raw
+    if not isinstance(raw, dict):
+        raise PydanticCustomError("scenario", "{message}", {"message": f"must be a table of keys, got {raw!r}"})
+    model = adhesion_model(raw)
+    law = LAWS.get(model) if isinstance(model, str) else None
+    if law is None:
+        raise PydanticCustomError("scenario", "{message}",
+                                  {"message": f"must be one of {one_of()}, got {model!r}", "key": "model"})
+    return law.spec.model_validate({**raw, "model": model})
+
+
+#: The ``[adhesion]`` field: any registered law's spec (serialised as its own class).
+Adhesion = Annotated[SerializeAsAny[AdhesionSpec], PlainValidator(_adhesion_law)]
+_ADHESION = TypeAdapter(Adhesion)
 
 
 class PathSpec(Section):
@@ -961,7 +1076,7 @@ class Scenario(Section):
     body1: BodySpec
     body2: BodySpec
     load: LoadSpec = Field(default_factory=LoadSpec)
-    adhesion: AdhesionSpec = Field(default_factory=AdhesionSpec)
+    adhesion: Adhesion = Field(default_factory=lambda: NoAdhesionSpec(model="none"))
     friction: Optional[FrictionSpec] = None
     humidity: Optional[HumiditySpec] = None
     solver: SolverSpec = Field(default_factory=SolverSpec)
