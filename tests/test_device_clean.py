@@ -40,7 +40,6 @@ from tribobem.scenario import build as build_module
 from tribobem.elasticity.backend import Backend
 from tribobem.elasticity.strict import DeviceArray, StrictBackend, reset_counts, strict_backend
 from tribobem.scenario import run_scenario
-from tribobem.solvers import tangential as tangential_solver
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 PAIR = ContactPair(Material(100e9, 0.3), Material(200e9, 0.25))
@@ -378,11 +377,11 @@ def test_run_kind_is_device_clean(name, monkeypatch):
     operators and the solvers' fields were device arrays, and the results are the NumPy
     backend's."""
     sc = CASES[name]
-    # The NumPy backend's single-precision search directions of TangCG (see
-    # solvers/tangential.py) are off for this comparison: the strict backend, like CuPy, runs in
+    # The NumPy backend's single-precision search directions of TangCG (Backend.single_precision,
+    # see solvers/tangential.py) are off for this comparison: the strict backend, like CuPy, runs in
     # double precision, and a different iteration path moves a result within the solver
     # tolerance, beyond RTOL.  Their own accuracy: tests/solvers/test_tangential_single.py.
-    monkeypatch.setattr(tangential_solver, "SINGLE_DIRECTIONS", False)
+    monkeypatch.setattr(Backend, "single_precision", property(lambda self: False))
     ref = _run_numpy_scipy(sc, monkeypatch)
     reset_counts()
     got, made = _run_strict(sc, monkeypatch)

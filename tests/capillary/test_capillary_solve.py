@@ -331,7 +331,7 @@ def test_unsettled_islands_are_flagged(sphere128):
     (dict(operator=None, approach=0.0, grid=None), "grid"),
     (dict(capillary_pressure=1e6), "capillary_pressure"),
     (dict(capillary_pressure=0.0), "capillary_pressure"),
-    (dict(contribution=1.5), "humidity.contribution"),
+    (dict(contribution=1.5), "solve_capillary.contribution"),
     (dict(adhesion=0.05), "adhesion"),
     (dict(hamaker=(-1e-20, 1e-20)), "hamaker1"),
     (dict(hamaker=1e-20), "hamaker"),

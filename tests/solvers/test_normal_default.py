@@ -89,7 +89,7 @@ def test_scenario_rule_is_the_library_rule(method, adhesion, humidity):
 
 def test_unknown_method_names_the_key():
     op, h, F = _rough(32)
-    with pytest.raises(InputError, match=r"solver\.method.*'auto', 'polonsky_keer' or 'normcg'"):
+    with pytest.raises(InputError, match=r"^solve_normal\.method: must be 'auto', 'polonsky_keer' or 'normcg'"):
         solve_normal(op, h, force=F, method="newton")
 
 

@@ -87,7 +87,7 @@ def test_non_positive_force_without_adhesion(sphere_problem, force):
     grid, op, h = sphere_problem
     with pytest.raises(InputError) as err:
         solve_normal(op, h, force=force)
-    assert err.value.field == "load.force"
+    assert err.value.field == "solve_normal.force"
     assert "> 0" in str(err.value)
 
 
@@ -121,8 +121,8 @@ def test_load_must_be_force_xor_approach(sphere_problem):
         solve_normal(op, h, force=1e-3, approach=1e-9)
 
 
-@pytest.mark.parametrize("kw,field", [({"tol": 0.0}, "solver.tolerance"), ({"tol": math.nan}, "solver.tolerance"),
-                                      ({"max_iterations": 0}, "solver.max_iterations")])
+@pytest.mark.parametrize("kw,field", [({"tol": 0.0}, "solve_normal.tol"), ({"tol": math.nan}, "solve_normal.tol"),
+                                      ({"max_iterations": 0}, "solve_normal.max_iterations")])
 def test_bad_solver_settings(sphere_problem, kw, field):
     grid, op, h = sphere_problem
     with pytest.raises(InputError) as err:

@@ -370,7 +370,7 @@ def small():
 def test_bad_friction_coefficient(small, mu):
     with pytest.raises(InputError) as err:
         solve_tangential(small.op, small.p, small.normal.contact, friction_coefficient=mu, force=(1.0, 0.0))
-    assert err.value.field == "friction.coefficient"
+    assert err.value.field == "solve_tangential.friction_coefficient"
     assert ">= 0" in str(err.value)
 
 
@@ -426,15 +426,15 @@ def test_tangential_load_without_compressive_contact(small):
 
 
 @pytest.mark.parametrize("kw,field", [
-    ({"force": (math.nan, 0.0)}, "friction.tangential_force"),
-    ({"force": (0.0, math.inf)}, "friction.tangential_force"),
-    ({"force": -math.inf}, "friction.tangential_force"),
-    ({"displacement": (math.nan, 0.0)}, "friction.tangential_displacement"),
-    ({"displacement": (0.0, -math.inf)}, "friction.tangential_displacement"),
+    ({"force": (math.nan, 0.0)}, "solve_tangential.force"),
+    ({"force": (0.0, math.inf)}, "solve_tangential.force"),
+    ({"force": -math.inf}, "solve_tangential.force"),
+    ({"displacement": (math.nan, 0.0)}, "solve_tangential.displacement"),
+    ({"displacement": (0.0, -math.inf)}, "solve_tangential.displacement"),
     ({}, "friction"),
     ({"force": (1.0, 0.0), "displacement": (1e-9, 0.0)}, "friction"),
-    ({"force": (1.0, 0.0), "tol": 0.0}, "solver.tolerance"),
-    ({"force": (1.0, 0.0), "tol": math.nan}, "solver.tolerance"),
+    ({"force": (1.0, 0.0), "tol": 0.0}, "solve_tangential.tol"),
+    ({"force": (1.0, 0.0), "tol": math.nan}, "solve_tangential.tol"),
 ])
 def test_bad_load(small, kw, field):
     with pytest.raises(InputError) as err:
@@ -447,7 +447,7 @@ def test_bad_load(small, kw, field):
 def test_force_with_wrong_number_of_components(small, force):
     with pytest.raises(InputError) as err:
         solve_tangential(small.op, small.p, small.normal.contact, friction_coefficient=MU, force=force)
-    assert err.value.field == "friction.tangential_force"
+    assert err.value.field == "solve_tangential.force"
 
 
 def test_non_finite_direction_of_a_ramp():
@@ -455,10 +455,10 @@ def test_non_finite_direction_of_a_ramp():
     for bad in (math.nan, math.inf):
         with pytest.raises(InputError) as err:
             tangential_ramp(op, gap, normal_force=P, friction_coefficient=MU, forces=[0.0, 1.0], direction=bad)
-        assert err.value.field == "friction.direction"
+        assert err.value.field == "direction_vector.direction_deg"
         with pytest.raises(InputError) as err:
             normal_path(op, gap, normal_forces=[P], friction_coefficient=MU, direction=bad)
-        assert err.value.field == "friction.direction"
+        assert err.value.field == "direction_vector.direction_deg"
 
 
 def test_non_finite_pressure_and_wrong_pressure_shape(small):
@@ -499,7 +499,7 @@ def test_bad_max_iterations(small, max_iterations):
     with pytest.raises(InputError) as err:
         solve_tangential(small.op, small.p, small.normal.contact, friction_coefficient=MU, force=(1.0, 0.0),
                          max_iterations=max_iterations)
-    assert err.value.field == "solver.max_iterations"
+    assert err.value.field == "solve_tangential.max_iterations"
 
 
 def test_warm_start_from_the_solution_converges_at_once(catt):
@@ -574,10 +574,10 @@ def test_ramp_input_errors(ramp_problem):
         tangential_ramp(op, gap, forces=[0.0], displacements=[0.0], **kw)
     with pytest.raises(InputError) as err:
         tangential_ramp(op, gap, forces=[0.0], slip="cumulative", **kw)
-    assert err.value.field == "friction.slip"
+    assert err.value.field == "tangential_ramp.slip"
     with pytest.raises(InputError) as err:
         normal_path(op, gap, normal_forces=[F0, F0], tangential_forces=[0.0], friction_coefficient=MU_D)
-    assert err.value.field == "friction.tangential_forces"
+    assert err.value.field == "normal_path.tangential_forces"
 
 
 # --------------------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""TangCG's single-precision search directions (``solvers.tangential.SINGLE_DIRECTIONS``).
+"""TangCG's single-precision search directions (``Backend.single_precision``, see solvers/tangential.py).
 
 On the NumPy backend with scipy.fft the images K v of TangCG's search directions and its FFT
 preconditioner are transformed in single precision; every check of the element division
@@ -14,13 +14,19 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import tribobem.solvers.tangential as tangential
+from tribobem.elasticity.backend import Backend
 from tribobem.elasticity.tangential import tangential_operator
 from tribobem.solvers.coupling import solve_coupled
 from tribobem.solvers.normal import solve_normal
 from tribobem.validation.tangential import cattaneo_problem, paper_d_problem
 
 P, MU, TOL = 10.0, 0.3, 1e-9
+
+
+def _double_precision(monkeypatch) -> None:
+    """TangCG in double precision throughout: the backend reports no single-precision transforms
+    (as CuPy's does), the reference of the single-precision search directions."""
+    monkeypatch.setattr(Backend, "single_precision", property(lambda self: False))
 
 
 @pytest.fixture(scope="module")
@@ -71,7 +77,7 @@ def test_cattaneo_solution_unchanged(catt, ratio, monkeypatch):
                                 force=(ratio * MU * P, 0.0), tol=TOL)
 
     single = solve()
-    monkeypatch.setattr(tangential, "SINGLE_DIRECTIONS", False)
+    _double_precision(monkeypatch)
     double = solve()
     assert single.converged and double.converged
     assert np.array_equal(single.stick, double.stick)
@@ -89,7 +95,7 @@ def test_coupled_ball_unchanged(monkeypatch):
     kw = dict(friction_coefficient=0.2, normal_force=P0, tangential_force=(0.5 * 0.2 * P0, 0.0),
               tol=1e-10, tangential_tol=1e-9, coupling_tol=1e-9)
     single = solve_coupled(op, gap, **kw)
-    monkeypatch.setattr(tangential, "SINGLE_DIRECTIONS", False)
+    _double_precision(monkeypatch)
     double = solve_coupled(op, gap, **kw)
     assert single.converged and double.converged
     assert np.array_equal(single.normal.contact, double.normal.contact)

@@ -217,6 +217,9 @@ class Backend:
     fft: str = field(default_factory=default_fft)
     # FFTW plans with their buffers, per (direction, shape): made once, reused.
     _plans: dict = field(default_factory=dict, compare=False, repr=False)
+    # Per-thread reusable work arrays (work_buffers): backends are shared by the threads of a
+    # threaded Dask worker.
+    _work: threading.local = field(default_factory=threading.local, init=False, compare=False, repr=False)
 
     def __post_init__(self):
         if self.fft not in _ENGINES:
@@ -652,7 +655,8 @@ def single_spectrum(owner, key, spec):
     Parameters
     ----------
     owner : object
-        The operator the spectrum belongs to (the copy is kept in its ``__dict__``).
+        The operator the spectrum belongs to (the copy is kept in its
+        ``cache.single_spectra``, :class:`~tribobem.elasticity.cache.OperatorCache`).
     key : hashable
         Name of the spectrum (e.g. the block and the transform shape).
     spec : ndarray
@@ -663,7 +667,7 @@ def single_spectrum(owner, key, spec):
     ndarray
         Its single-precision copy.
     """
-    cache = owner.__dict__.setdefault("_single_spectra", {})
+    cache = owner.cache.single_spectra
     got = cache.get(key)
     if got is None or got[0] is not spec:
         if len(cache) >= 32:
@@ -681,8 +685,9 @@ def work_buffers(owner) -> dict:
     Parameters
     ----------
     owner : object
-        The object the buffers belong to (an operator or a backend); a thread-local store is
-        set on its ``__dict__`` on first use (so it works on frozen dataclasses too).
+        The object the buffers belong to: an operator (its ``cache.work``,
+        :class:`~tribobem.elasticity.cache.OperatorCache`) or a :class:`Backend` (its own
+        thread-local store).
 
     Returns
     -------
@@ -690,9 +695,8 @@ def work_buffers(owner) -> dict:
         This thread's buffers of ``owner``, keyed by whatever the caller chooses; callers clear
         it when it grows (a bounded cache, not a registry).
     """
-    tls = owner.__dict__.get("_tls")
-    if tls is None:
-        tls = owner.__dict__.setdefault("_tls", threading.local())
+    cache = getattr(owner, "cache", None)
+    tls = owner._work if cache is None else cache.work
     bufs = getattr(tls, "bufs", None)
     if bufs is None:
         bufs = tls.bufs = {}

@@ -182,8 +182,8 @@ class KernelColumns:
         Parameters
         ----------
         op : ConvolutionOperator
-            A single-component operator; the columns are cached on it, so the kernel's inverse
-            FFT is done once per operator.
+            A single-component operator; the columns are cached on it (``op.cache.kernel_columns``),
+            so the kernel's inverse FFT is done once per operator.
         spectrum : ndarray, optional
             Work buffer passed to the constructor on the first call only.
 
@@ -191,9 +191,9 @@ class KernelColumns:
         -------
         KernelColumns
         """
-        cols = op.__dict__.get("_kernel_columns")
+        cols = op.cache.kernel_columns
         if cols is None:
-            cols = op.__dict__["_kernel_columns"] = cls(op, spectrum)
+            cols = op.cache.kernel_columns = cls(op, spectrum)
         return cols
 
     def _blocks(self, j: int, n: int, N: int):

@@ -43,6 +43,7 @@ from ..grid import Grid
 from ..materials import ContactPair
 from .backend import Backend, default_workers, times_spectrum, work_buffers
 from .backends import get_backend
+from .cache import OperatorCache
 from .influence import lattice_coefficients
 
 AXES = ("x", "y", "z")
@@ -72,6 +73,13 @@ class ConvolutionOperator:
     reciprocal : bool
         Single-component operators only: divide by the spectrum instead of multiplying (the
         convolution with spectrum 1/K, e.g. NormCG's preconditioner, sharing K's array).
+
+    Attributes
+    ----------
+    cache : OperatorCache
+        What the solvers derive from this operator once (its blocks, preconditioners, kernel
+        columns, work arrays); made empty with the operator (not a constructor argument), see
+        :mod:`tribobem.elasticity.cache`.
     """
 
     grid: Grid
@@ -82,7 +90,8 @@ class ConvolutionOperator:
     backend: Backend
     kind: str
     reciprocal: bool = False
-    _blocks: dict = field(default_factory=dict, repr=False)
+    # not an __init__ argument: a copy (dataclasses.replace) starts with its own empty cache
+    cache: OperatorCache = field(default_factory=OperatorCache, init=False, repr=False)
 
     @property
     def periodic(self) -> bool:
@@ -112,15 +121,16 @@ class ConvolutionOperator:
         ConvolutionOperator
             A ``("z",)``-component operator (the single-component convention the normal solvers
             take) whose only spectrum is the ``out + inp`` block; no spectrum when the block is
-            zero.  Cached on this operator.
+            zero.  Cached on this operator (``cache.blocks``).
         """
         key = out + inp
-        if key not in self._blocks:
+        blocks = self.cache.blocks
+        if key not in blocks:
             spec = {"zz": self.spectra[key]} if key in self.spectra else {}
-            self._blocks[key] = ConvolutionOperator(
+            blocks[key] = ConvolutionOperator(
                 self.grid, self.pair, ("z",), spec, self.fft_shape, self.backend, f"{self.kind} [{key}]"
             )
-        return self._blocks[key]
+        return blocks[key]
 
     @property
     def normal(self) -> "ConvolutionOperator":
@@ -240,13 +250,6 @@ class ConvolutionOperator:
 
     def __repr__(self) -> str:
         return f"ConvolutionOperator({self.kind}, grid={self.grid.nx}x{self.grid.ny}, components={self.components})"
-
-
-def _realify(spec: np.ndarray) -> np.ndarray:
-    """Drop an imaginary part that is round-off (even kernels have real spectra)."""
-    if np.abs(spec.imag).max() <= 1e-12 * max(np.abs(spec.real).max(), 1e-300):
-        return np.ascontiguousarray(spec.real)
-    return spec
 
 
 @lru_cache(maxsize=8)

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import InputError
 from .backend import single_spectrum, work_array
+from .cache import OperatorCache
 from .operators import ConvolutionOperator
 
 __all__ = ["TangentialOperator", "tangential_operator"]
@@ -30,6 +31,12 @@ class TangentialOperator:
     op : ConvolutionOperator
         An operator with components ("x", "y", "z") (free boundary or periodic).
 
+    Attributes
+    ----------
+    cache : OperatorCache
+        This view's own derived data (preconditioner and box spectra, single-precision spectra,
+        work arrays; :mod:`tribobem.elasticity.cache`), apart from ``op.cache``.
+
     Notes
     -----
     ``shear_displacement`` costs two forward and two inverse FFTs; ``from_pressure`` one
@@ -42,6 +49,7 @@ class TangentialOperator:
             raise InputError("operator", "the tangential solver needs an operator with components "
                                          f"('x', 'y', 'z'), got {op.components!r}")
         self.op = op
+        self.cache = OperatorCache()
         self.be = op.backend
         self.xp = op.xp
         self.grid = op.grid
@@ -194,7 +202,7 @@ class TangentialOperator:
         as the normal preconditioner of :mod:`tribobem.solvers.normal_cg` does.
         """
         box = (int(box[0]), int(box[1]))
-        cache = self.__dict__.setdefault("_pre_spec", {})
+        cache = self.cache.preconditioner_spectra
         if box in cache:
             return cache[box]
         N1, N2 = self.fft_shape
@@ -333,7 +341,7 @@ class TangentialOperator:
         # Cached per transform shape N, not per box: the kernel is laid out for every offset
         # |d| <= (N - 1) // 2, which serves every box with 2m - 1 <= N (the contact's box changes
         # by a node or two along a path; its N rarely does).
-        cache = self.__dict__.setdefault("_box_spec", {})
+        cache = self.cache.box_spectra
         if N in cache:
             return cache[N]
         F1, F2 = self.fft_shape
@@ -422,7 +430,8 @@ class TangentialOperator:
 
 
 def tangential_operator(op: ConvolutionOperator) -> TangentialOperator:
-    """The :class:`TangentialOperator` view of a 3x3 operator, cached on the operator.
+    """The :class:`TangentialOperator` view of a 3x3 operator, cached on the operator
+    (``op.cache.tangential``).
 
     Parameters
     ----------
@@ -439,8 +448,7 @@ def tangential_operator(op: ConvolutionOperator) -> TangentialOperator:
     InputError
         When ``op`` does not have the components ("x", "y", "z").
     """
-    cache = op.__dict__.get("_tangential_view")
-    if cache is None:
-        cache = TangentialOperator(op)
-        op.__dict__["_tangential_view"] = cache
-    return cache
+    view = op.cache.tangential
+    if view is None:
+        view = op.cache.tangential = TangentialOperator(op)
+    return view

@@ -412,7 +412,7 @@ def film_thickness(
     """
     t_start = _time.perf_counter()
     if mode not in MODES:
-        raise InputError("humidity.levelling", f"must be one of {', '.join(MODES)}, got {mode!r}")
+        raise InputError("film_thickness.mode", f"must be one of {', '.join(MODES)}, got {mode!r}")
     if not isinstance(grid, Grid):
         raise InputError("grid", f"must be a tribobem.grid.Grid, got {type(grid).__name__}")
     try:
@@ -424,31 +424,32 @@ def film_thickness(
     if not np.all(np.isfinite(h)):
         raise InputError("surface", "topography contains NaN or inf")
     if not isinstance(water, Water):
-        raise InputError("humidity", f"water must be a Water, got {type(water).__name__}")
+        raise InputError("film_thickness.water", f"water must be a Water, got {type(water).__name__}")
     iso = isotherm if isinstance(isotherm, Isotherm) else isotherm_from_spec(isotherm)
     rh = check_rh(rh)
     if not np.ndim(rh) == 0:
-        raise InputError("humidity.rh", "film_thickness takes one relative humidity at a time")
+        raise InputError("film_thickness.rh", "film_thickness takes one relative humidity at a time")
     if system is None:
         system = "closed" if mode == "thin_film" else "open"
     if system not in SYSTEMS:
-        raise InputError("humidity.film_system", f"must be 'open' or 'closed', got {system!r}")
+        raise InputError("film_thickness.system", f"must be 'open' or 'closed', got {system!r}")
     if mode == "thin_film" and system == "open":
-        raise InputError("humidity.film_system", "the thin-film equation conserves the film volume: it is a closed "
+        raise InputError("film_thickness.system", "the thin-film equation conserves the film volume: it is a closed "
                                                  "system (use system='closed' or None)")
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-        raise InputError("solver.tolerance", f"must be a finite number > 0, got {tol!r}")
+        raise InputError("film_thickness.tol", f"must be a finite number > 0, got {tol!r}")
     if mean_thickness is not None:
         if mode == "equilibrium" and system == "open":
-            raise InputError("film.mean_thickness", "the open system's mean thickness follows from RH; use system='closed'")
+            raise InputError("film_thickness.mean_thickness",
+                             "the open system's mean thickness follows from RH; use system='closed'")
         if not (isinstance(mean_thickness, (int, float)) and math.isfinite(mean_thickness) and mean_thickness > 0):
-            raise InputError("film.mean_thickness", f"must be a finite number > 0 m, got {mean_thickness!r}")
+            raise InputError("film_thickness.mean_thickness", f"must be a finite number > 0 m, got {mean_thickness!r}")
     if max_iterations is not None and not (isinstance(max_iterations, (int, np.integer)) and max_iterations >= 1):
-        raise InputError("solver.max_iterations", f"must be an integer >= 1, got {max_iterations!r}")
+        raise InputError("film_thickness.max_iterations", f"must be an integer >= 1, got {max_iterations!r}")
     if periodic is None:
         periodic = grid.periodic
     if mode != "thin_film" and (disjoining or time is not None):
-        raise InputError("humidity.levelling", "disjoining and time apply to mode='thin_film' only")
+        raise InputError("film_thickness.mode", "disjoining and time apply to mode='thin_film' only")
     if time_progress is not None and not callable(time_progress):
         raise InputError("time_progress", f"must be callable as time_progress(t, t_end, tau_slow), got {time_progress!r}")
 
@@ -465,14 +466,14 @@ def film_thickness(
 
     if mode == "equilibrium" and system == "open" and rh == 1.0:
         raise InputError(
-            "humidity.rh",
+            "film_thickness.rh",
             "RH = 1 with an open-system equilibrium film: the Kelvin pressure is 0 and a flat film is "
             "bulk water (no finite film); use RH < 1, or a closed system with a finite mean_thickness",
         )
     target = float(mean_thickness) if mean_thickness is not None else float(iso.thickness(rh))
     if not math.isfinite(target):
         raise InputError(
-            "humidity.rh",
+            "film_thickness.rh",
             f"the {iso.name} film thickness at RH = {rh} is infinite (bulk water); use RH < 1 or give mean_thickness",
         )
 
@@ -666,9 +667,9 @@ def _thin_film(sp: _Spectral, hs, iso: Isotherm, water: Water, target, disjoinin
     for name, v in (("duration", duration), ("steady_tolerance", steady_tol), ("step_tolerance", step_tol),
                     ("viscosity", viscosity)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-            raise InputError(f"film.{name}", f"must be a finite number > 0, got {v!r}")
+            raise InputError(f"film_thickness.{name}", f"must be a finite number > 0, got {v!r}")
     if t_final is not None and not (isinstance(t_final, (int, float)) and math.isfinite(t_final) and t_final > 0):
-        raise InputError("humidity.film_time", f"must be a finite time > 0 s, got {t_final!r}")
+        raise InputError("film_thickness.time", f"must be a finite time > 0 s, got {t_final!r}")
     hs_hat = sp.rfft(hs)
     k2 = sp.k2
     gk2 = gamma * k2

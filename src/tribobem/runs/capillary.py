@@ -43,7 +43,7 @@ from ..errors import ConvergenceWarning
 from ..interactions.films import film_thickness
 from ..interactions.menisci import contribution_coefficient
 from ..solvers.capillary import solve_capillary
-from .common import approach_below_full_contact, normal_method, solve_kw
+from .common import approach_below_full_contact, normal_method, scenario_errors, solve_kw
 from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_elastic_body, require_humidity
 
 __all__ = ["run", "check", "KIND", "films_at", "capillary_options", "capillary_row", "step_maps", "STEP_FIELDS"]
@@ -266,6 +266,7 @@ def _film_notes(rh, f1, f2, film_time=None) -> list[str]:
     return notes
 
 
+@scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
 def run(pb, bar) -> RunOutput:
     """Run a ``capillary`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 

@@ -1,6 +1,12 @@
-"""Helpers shared by the runners of several kinds (rows, curves, progress offsets, load checks)."""
+"""Helpers shared by the runners of several kinds (rows, curves, progress offsets, load checks,
+the translation of the solvers' error keys into scenario keys)."""
 
 from __future__ import annotations
+
+import contextlib
+import functools
+import re
+from typing import Mapping
 
 import numpy as np
 
@@ -8,7 +14,137 @@ from ..errors import InputError
 from ..solvers.normal import resolve_method
 from ..solvers.paths import LoadCurve, find_jumps
 
-__all__ = ["solve_kw", "normal_method", "step_row", "curve_from_rows", "offset_progress", "approach_below_full_contact"]
+__all__ = ["solve_kw", "normal_method", "step_row", "curve_from_rows", "offset_progress", "approach_below_full_contact",
+           "SCENARIO_KEYS", "translate_error", "scenario_keys", "scenario_errors"]
+
+#: The solvers' error keys (``"<function>.<argument>"``: the library function and its own
+#: argument, e.g. ``solve_tangential.method``) -> the scenario key a scenario user sees for them.
+#: The solvers know nothing of scenarios; the runners translate at their boundary
+#: (:func:`scenario_errors`), so that a scenario's message is the one it always was.  Keys that
+#: map onto one scenario key from several solvers (``solver.tolerance``) say which value was bad
+#: no better than before: the translation keeps the message, it does not refine it.
+SCENARIO_KEYS: dict[str, str] = {
+    # solve_normal (and NormCG, reached through it)
+    "solve_normal.method": "solver.method",
+    "solve_normal.tol": "solver.tolerance",
+    "solve_normal.max_iterations": "solver.max_iterations",
+    "solve_normal.refresh": "solver.refresh",
+    "solve_normal.force": "load.force",
+    "solve_normal.approach": "load.approach",
+    # solve_tangential
+    "solve_tangential.friction_coefficient": "friction.coefficient",
+    "solve_tangential.force": "friction.tangential_force",
+    "solve_tangential.displacement": "friction.tangential_displacement",
+    "solve_tangential.tol": "solver.tolerance",
+    "solve_tangential.method": "solver.tangential_method",
+    "solve_tangential.preconditioner": "solver.tangential_preconditioner",
+    "solve_tangential.max_iterations": "solver.max_iterations",
+    # solve_coupled, solve_capillary
+    "solve_coupled.max_coupling": "solver.max_coupling",
+    "solve_capillary.contribution": "humidity.contribution",
+    # load paths
+    "approach_curve.approaches": "load.approaches",
+    "force_curve.forces": "load.forces",
+    "pull_off.preload": "load.preload",
+    "direction_vector.direction_deg": "friction.direction",
+    "tangential_ramp.slip": "friction.slip",
+    "normal_path.tangential_forces": "friction.tangential_forces",
+    "cycle_path.peak": "friction.path",
+    "cycle_path.cycles": "friction.path.cycles",
+    "cycle_path.steps": "friction.path.steps",
+    "hysteresis_loop.control": "friction.path.control",
+    "hysteresis_loop.amplitude": "friction.path.amplitude",
+    "hysteresis_loop.friction_coefficient": "friction.coefficient",
+    "hysteresis_loop.stroke": "friction.path.stroke",
+    # the films' levelling (interactions.films.film_thickness)
+    "film_thickness.mode": "humidity.levelling",
+    "film_thickness.water": "humidity",
+    "film_thickness.rh": "humidity.rh",
+    "film_thickness.system": "humidity.film_system",
+    "film_thickness.tol": "solver.tolerance",
+    "film_thickness.max_iterations": "solver.max_iterations",
+    "film_thickness.time": "humidity.film_time",
+}
+
+
+def _key_pattern(keys: Mapping[str, str]) -> re.Pattern:
+    """A key followed by ": " where it starts a message or follows a space (the form in which a
+    solver quotes another's error: ``f"...: {exc}"``), longest keys first."""
+    alts = "|".join(re.escape(k) for k in sorted(keys, key=len, reverse=True))
+    return re.compile(rf"(?<![\w.])({alts}): ")
+
+
+_SCENARIO_PATTERN = _key_pattern(SCENARIO_KEYS)
+
+
+def translate_error(exc: InputError, keys: Mapping[str, str] = SCENARIO_KEYS) -> InputError:
+    """Rename the solver keys of ``exc`` to scenario keys, in place.
+
+    Parameters
+    ----------
+    exc : InputError
+        An error raised by a solver (any subclass: it keeps its class and attributes).
+    keys : mapping
+        Solver key -> scenario key (default :data:`SCENARIO_KEYS`).
+
+    Returns
+    -------
+    InputError
+        ``exc`` itself, its ``field`` translated and, in ``reason``, every quoted error of
+        another solver (``"<key>: "``) too; ``str(exc)`` follows.  Keys not in ``keys`` stay.
+    """
+    pattern = _SCENARIO_PATTERN if keys is SCENARIO_KEYS else _key_pattern(keys)
+    field = keys.get(exc.field, exc.field)
+    reason = exc.reason
+    if isinstance(reason, str) and keys:
+        reason = pattern.sub(lambda m: keys[m.group(1)] + ": ", reason)
+    if field != exc.field or reason != exc.reason:
+        exc.field, exc.reason = field, reason
+        exc.args = (f"{field}: {reason}",)
+    return exc
+
+
+@contextlib.contextmanager
+def scenario_keys(keys: Mapping[str, str] = SCENARIO_KEYS):
+    """A context in which an :class:`~tribobem.errors.InputError` leaves with scenario keys.
+
+    Parameters
+    ----------
+    keys : mapping
+        Solver key -> scenario key (default :data:`SCENARIO_KEYS`).
+
+    Raises
+    ------
+    InputError
+        The error raised inside, the same object, translated by :func:`translate_error`.
+    """
+    try:
+        yield
+    except InputError as exc:
+        translate_error(exc, keys)
+        raise
+
+
+def scenario_errors(run):
+    """Decorate a kind's runner ``run(pb, bar)`` so that the solvers' errors reach the scenario
+    user under scenario keys (:func:`scenario_keys`).
+
+    Parameters
+    ----------
+    run : callable
+        The runner.
+
+    Returns
+    -------
+    callable
+        The same runner, its :class:`~tribobem.errors.InputError` translated.
+    """
+    @functools.wraps(run)
+    def runner(*args, **kwargs):
+        with scenario_keys():
+            return run(*args, **kwargs)
+
+    return runner
 
 
 def solve_kw(sc) -> dict:

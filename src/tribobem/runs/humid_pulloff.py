@@ -100,7 +100,7 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
     try:
         start = solve_capillary(pb.operator, pb.gap, normal_force=target, **common)
     except InputError as exc:
-        if exc.field != "load.force" or preload is not None:
+        if exc.field != "solve_normal.force" or preload is not None:  # (solver key: runs.common.SCENARIO_KEYS)
             raise
         # No attraction at all at this RH (no Dugdale zone, a zero capillary contribution, van der
         # Waals off): no adhesive equilibrium at zero load and no pull-off to compute.

@@ -25,7 +25,7 @@ from ..analytic.mindlin import mindlin_compliance_k
 from ..analytic.tangential_axisymmetric import sphere_partial_slip
 from ..errors import InputError
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
-from .common import normal_method, solve_kw
+from .common import normal_method, scenario_errors, solve_kw
 from .humid_friction import meniscus_fields, run_per_rh
 from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,
                    require_elastic_body, require_friction, require_humidity)
@@ -119,6 +119,7 @@ def _stiffness_table(rows, run, mu, f0p, reference, e=(1.0, 0.0)):
     return table, {"c1": c1, "c2": c2, "n": n}
 
 
+@scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
 def run(pb, bar) -> RunOutput:
     """Run a ``hysteresis`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 

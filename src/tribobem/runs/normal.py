@@ -14,12 +14,13 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from ..solvers.normal import solve_normal
 from ..solvers.paths import approach_curve, force_curve
-from .common import approach_below_full_contact, normal_method, solve_kw, step_row
+from .common import approach_below_full_contact, normal_method, scenario_errors, solve_kw, step_row
 from .kind import RunKind, RunOutput, fail, positive_normal_load, require_elastic_body
 
 __all__ = ["run", "check", "KIND"]
 
 
+@scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
 def run(pb, bar) -> RunOutput:
     """Run a ``normal`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 

@@ -22,7 +22,7 @@ import math
 from ..errors import InputError
 from ..units import format_quantity
 from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
-from .common import normal_method, solve_kw
+from .common import normal_method, scenario_errors, solve_kw
 from .humid_friction import meniscus_fields, run_per_rh
 from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,
                    require_elastic_body, require_friction, require_humidity)
@@ -53,6 +53,7 @@ def _row(res, branch: str, mu: float, e) -> dict:
     return row
 
 
+@scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
 def run(pb, bar) -> RunOutput:
     """Run a ``partial_slip`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 

@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from ..output.checks import cohesive_cells
 from ..solvers.paths import approach_curve, pull_off
-from .common import curve_from_rows, offset_progress, solve_kw
+from .common import curve_from_rows, offset_progress, scenario_errors, solve_kw
 from .humid_pulloff import run as humid_run
 from .kind import (ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, refuse_normcg, require_elastic_body,
                    require_humidity)
@@ -30,6 +30,7 @@ __all__ = ["run", "check", "KIND"]
 ZERO_LOAD = "zero external load (adhesive equilibrium at F = 0)"
 
 
+@scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
 def run(pb, bar) -> RunOutput:
     """Run a ``pulloff`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 

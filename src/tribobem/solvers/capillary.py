@@ -462,7 +462,7 @@ def solve_capillary(operator, gap, *, normal_force: float | None = None, approac
         raise InputError("capillary_pressure", "r_k = -inf (RH = 1) goes with dP_cap = 0 and only with it")
     c = float(contribution)
     if not (0.0 <= c <= 1.0):
-        raise InputError("humidity.contribution", f"coefficient must be in [0, 1], got {contribution!r}")
+        raise InputError("solve_capillary.contribution", f"coefficient must be in [0, 1], got {contribution!r}")
     if isinstance(adhesion, NoInteraction):
         adhesion = None
     if adhesion is not None and not isinstance(adhesion, DugdaleAdhesion):

@@ -225,7 +225,7 @@ def solve_coupled(
     if tangential_force is None and tangential_displacement is None:
         tangential_force = (0.0, 0.0)
     if max_coupling < 1:
-        raise InputError("solver.max_coupling", f"must be >= 1, got {max_coupling!r}")
+        raise InputError("solve_coupled.max_coupling", f"must be >= 1, got {max_coupling!r}")
     top = tangential_operator(operator)
     xp = top.xp
     h = xp.asarray(gap, dtype=float)

@@ -111,11 +111,11 @@ def cycle_path(peak: float, cycles: int, steps: int, control: str = "force") -> 
         For a non-positive peak, ``cycles`` < 1 or ``steps`` < 4.
     """
     if not (math.isfinite(peak) and peak > 0):
-        raise InputError("friction.path", f"the amplitude (or half stroke) must be > 0, got {peak!r}")
+        raise InputError("cycle_path.peak", f"the amplitude (or half stroke) must be > 0, got {peak!r}")
     if not isinstance(cycles, (int, np.integer)) or cycles < 1:
-        raise InputError("friction.path.cycles", f"must be an integer >= 1, got {cycles!r}")
+        raise InputError("cycle_path.cycles", f"must be an integer >= 1, got {cycles!r}")
     if not isinstance(steps, (int, np.integer)) or steps < 4:
-        raise InputError("friction.path.steps", f"must be an integer >= 4, got {steps!r}")
+        raise InputError("cycle_path.steps", f"must be an integer >= 4, got {steps!r}")
     m = steps // 2
     m0 = max(steps // 4, 4)
     vals, cyc, br, turn = [], [], [], []
@@ -233,21 +233,21 @@ def hysteresis_loop(
     mu = friction_coefficient
     e = direction_vector(direction)
     if control not in ("force", "displacement"):
-        raise InputError("friction.path.control", f"must be 'force' or 'displacement', got {control!r}")
+        raise InputError("hysteresis_loop.control", f"must be 'force' or 'displacement', got {control!r}")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         start = solve_coupled(operator, gap, friction_coefficient=mu, normal_force=normal_force,
                               interaction=interaction, initial=initial, **solver_kw)
         if control == "force":
             if not (0 < amplitude <= 1):
-                raise InputError("friction.path.amplitude", f"must be in (0, 1], got {amplitude!r}")
+                raise InputError("hysteresis_loop.amplitude", f"must be in (0, 1], got {amplitude!r}")
             if mu <= 0:
-                raise InputError("friction.coefficient", "must be > 0 for a force-controlled loop (the amplitude "
+                raise InputError("hysteresis_loop.friction_coefficient", "must be > 0 for a force-controlled loop (the amplitude "
                                                          "is a fraction of mu F0+)")
             peak = amplitude * mu * start.normal.repulsive_force
         else:
             if stroke is None or not (math.isfinite(stroke) and stroke > 0):
-                raise InputError("friction.path.stroke", f"must be a length > 0, got {stroke!r}")
+                raise InputError("hysteresis_loop.stroke", f"must be a length > 0, got {stroke!r}")
             peak = 0.5 * stroke
         path = cycle_path(peak, cycles, steps, control)
         run = HysteresisRun(start=start, steps=[], path=path, direction=e,

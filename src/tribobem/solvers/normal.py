@@ -97,14 +97,13 @@ BOX_FRACTION = 0.5
 
 def _self_compliance(op: ConvolutionOperator) -> float:
     """Displacement (m/Pa) of a cell under its own unit pressure (diagonal of K)."""
-    cache = op.__dict__.setdefault("_self_compliance", None)
-    if cache is None:
+    c = op.cache.self_compliance
+    if c is None:
         xp = op.xp
         e = xp.zeros(op.grid.shape)
         e[0, 0] = 1.0
-        cache = float(op.backend.to_numpy(op.apply(e))[0, 0])
-        op.__dict__["_self_compliance"] = cache
-    return cache
+        c = op.cache.self_compliance = float(op.backend.to_numpy(op.apply(e))[0, 0])
+    return c
 
 
 def _stiffness_box(op: ConvolutionOperator, idx):
@@ -139,7 +138,7 @@ def _stiffness_box(op: ConvolutionOperator, idx):
     if n1 * n2 > BOX_FRACTION * op.fft_shape[0] * op.fft_shape[1]:
         return None
     # |q| per box shape, cached on the operator (the box of a load path changes shape rarely)
-    cache = op.__dict__.setdefault("_stiffness_box_spectra", {})
+    cache = op.cache.stiffness_box_spectra
     q = cache.get((n1, n2))
     if q is None:
         qx = 2.0 * math.pi * np.fft.fftfreq(n1, d=g.lx / g.nx)
@@ -187,12 +186,13 @@ def resolve_method(method: str, adhesive: bool) -> str:
     Raises
     ------
     InputError
-        ``solver.method`` is none of :data:`METHODS`.
+        ``method`` is none of :data:`METHODS` (key ``solve_normal.method``; a scenario reads
+        ``solver.method``, :data:`tribobem.runs.common.SCENARIO_KEYS`).
     """
     if method == "auto":
         return "polonsky_keer" if adhesive else "normcg"
     if method not in METHODS:
-        raise InputError("solver.method", f"must be 'auto', 'polonsky_keer' or 'normcg', got {method!r}")
+        raise InputError("solve_normal.method", f"must be 'auto', 'polonsky_keer' or 'normcg', got {method!r}")
     return method
 
 

@@ -103,7 +103,7 @@ def fft_preconditioner(operator: ConvolutionOperator) -> ConvolutionOperator:
         the smallest of the other values, i.e. the stiffness of the longest wavelength.
     """
     op = operator.normal
-    cached = op.__dict__.get("_normcg_preconditioner")
+    cached = op.cache.normcg_preconditioner
     if cached is not None:
         return cached
     spec = op.spectrum()
@@ -115,7 +115,7 @@ def fft_preconditioner(operator: ConvolutionOperator) -> ConvolutionOperator:
         # of storing 1/K -- two grid fields less (a 4096^2 burl's memory bound).
         pre = ConvolutionOperator(op.grid, op.pair, ("z",), {"zz": spec}, op.fft_shape, op.backend,
                                   f"NormCG preconditioner of {op.kind}", reciprocal=True)
-        op.__dict__["_normcg_preconditioner"] = pre
+        op.cache.normcg_preconditioner = pre
         return pre
     K = np.real(np.asarray(op.backend.to_numpy(spec)))
     M = np.empty(K.shape)
@@ -129,7 +129,7 @@ def fft_preconditioner(operator: ConvolutionOperator) -> ConvolutionOperator:
     del positive
     pre = ConvolutionOperator(op.grid, op.pair, ("z",), {"zz": op.backend.asarray(M)}, op.fft_shape, op.backend,
                               f"NormCG preconditioner of {op.kind}")
-    op.__dict__["_normcg_preconditioner"] = pre
+    op.cache.normcg_preconditioner = pre
     return pre
 
 

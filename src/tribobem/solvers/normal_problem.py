@@ -102,24 +102,24 @@ def normal_problem(op, gap, force, approach, interaction, tol, max_iterations, i
         bad = int(xp.count_nonzero(~xp.isfinite(h)))
         raise InputError("gap", f"{bad} points are NaN or infinite; fill or crop the topography first")
     if not (tol > 0 and math.isfinite(tol)):
-        raise InputError("solver.tolerance", f"must be a finite value > 0, got {tol!r}")
+        raise InputError("solve_normal.tol", f"must be a finite value > 0, got {tol!r}")
     if max_iterations < 1:
-        raise InputError("solver.max_iterations", f"must be >= 1, got {max_iterations!r}")
+        raise InputError("solve_normal.max_iterations", f"must be >= 1, got {max_iterations!r}")
     if refresh is not None and refresh < 1:
-        raise InputError("solver.refresh", f"must be >= 1, got {refresh!r}")
+        raise InputError("solve_normal.refresh", f"must be >= 1, got {refresh!r}")
 
     force_control = force is not None
     if force_control:
         if not math.isfinite(force):
-            raise InputError("load.force", f"must be finite, got {force!r}")
+            raise InputError("solve_normal.force", f"must be finite, got {force!r}")
         if floor == 0.0 and force <= 0.0:
-            raise InputError("load.force", f"must be > 0 N without adhesion, got {force!r}")
+            raise InputError("solve_normal.force", f"must be > 0 N without adhesion, got {force!r}")
         target = force / grid.cell_area  # target sum of p
         shift = 0.0
     else:
         target = None
         if not math.isfinite(approach):
-            raise InputError("load.approach", f"must be finite, got {approach!r}")
+            raise InputError("solve_normal.approach", f"must be finite, got {approach!r}")
         shift = float(approach)  # the Polonsky-Keer solver works on h - approach without storing it
 
     # Step 1: initial pressure (one array, owned by the solver state).

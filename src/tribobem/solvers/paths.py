@@ -264,7 +264,7 @@ def approach_curve(
     """
     approaches = np.asarray(approaches, dtype=float)
     if approaches.ndim != 1 or len(approaches) < 1 or not np.all(np.isfinite(approaches)):
-        raise InputError("load.approaches", "must be a non-empty list of finite approaches (m)")
+        raise InputError("approach_curve.approaches", "must be a non-empty list of finite approaches (m)")
     plan = [("loading", d) for d in approaches]
     if unload:
         plan += [("unloading", d) for d in approaches[::-1]]
@@ -343,7 +343,7 @@ def force_curve(
     """
     forces = np.asarray(forces, dtype=float)
     if forces.ndim != 1 or len(forces) < 1 or not np.all(np.isfinite(forces)):
-        raise InputError("load.forces", "must be a non-empty list of finite forces (N)")
+        raise InputError("force_curve.forces", "must be a non-empty list of finite forces (N)")
     plan = [("loading", f) for f in forces]
     if unload:
         plan += [("unloading", f) for f in forces[::-1]]
@@ -370,7 +370,7 @@ def force_curve(
         if progress:
             progress(k + 1, len(plan))
     if not rows:
-        raise InputError("load.forces", "no force of the list has an equilibrium (all beyond pull-off)")
+        raise InputError("force_curve.forces", "no force of the list has an equilibrium (all beyond pull-off)")
     curve = _assemble("force", rows, store)
     curve.jumps = sorted(curve.jumps + jump_offs, key=lambda j: j["index"])
     return curve
@@ -738,7 +738,7 @@ def pull_off(
     if interaction is None:
         raise InputError("adhesion", "pull-off needs an adhesive interaction")
     if preload is not None and not preload > 0:
-        raise InputError("load.preload", f"must be > 0 N (or left out: zero external load), got {preload!r}")
+        raise InputError("pull_off.preload", f"must be > 0 N (or left out: zero external load), got {preload!r}")
     if control not in ("displacement", "force"):
         raise InputError("control", f"must be 'displacement' or 'force', got {control!r}")
     if start not in ("approach", "force"):
@@ -748,13 +748,13 @@ def pull_off(
     if start == "force":
         state0 = _solve_quiet(operator, gap, interaction, tol, max_iterations, None, force=target)
         if not state0.converged:
-            raise InputError("load.preload", f"the preload has no converged solution: {state0.message}")
+            raise InputError("pull_off.preload", f"the preload has no converged solution: {state0.message}")
     else:
         try:
             state0 = solve_at_force(operator, gap, target, interaction=interaction, tol=tol,
                                     max_iterations=max_iterations)
         except InputError as exc:
-            raise InputError("load.preload", f"the preload cannot be reached: {exc}") from None
+            raise InputError("pull_off.preload", f"the preload cannot be reached: {exc}") from None
         if state0.info.get("full_contact"):
             notes.append(f"preload: the periodic cell reaches full contact below the preload {target:.4g} N; the "
                          f"unloading starts from the last state short of full contact ({state0.force:.4g} N at "

@@ -58,7 +58,7 @@ def direction_vector(direction_deg: float) -> np.ndarray:
         For a non-finite angle.
     """
     if not math.isfinite(direction_deg):
-        raise InputError("friction.direction", f"must be a finite angle in degrees, got {direction_deg!r}")
+        raise InputError("direction_vector.direction_deg", f"must be a finite angle in degrees, got {direction_deg!r}")
     t = math.radians(direction_deg)
     return np.array([math.cos(t), math.sin(t)])
 
@@ -201,7 +201,7 @@ def tangential_ramp(
     if (forces is None) == (displacements is None):
         raise InputError("friction", "give exactly one of tangential_forces or tangential_displacements")
     if slip not in ("total", "incremental"):
-        raise InputError("friction.slip", f"must be 'total' or 'incremental', got {slip!r}")
+        raise InputError("tangential_ramp.slip", f"must be 'total' or 'incremental', got {slip!r}")
     if onset_by not in ("auto", "displacement", "force"):
         raise InputError("onset_by", f"must be 'auto', 'displacement' or 'force', got {onset_by!r}")
     if not (isinstance(refine_tol, float) and 0 < refine_tol < 1):
@@ -611,7 +611,7 @@ def normal_path(
     if tangential_forces is None:
         tangential_forces = [0.0] * len(forces)
     if len(tangential_forces) != len(forces):
-        raise InputError("friction.tangential_forces", f"must pair with load.forces: {len(tangential_forces)} "
+        raise InputError("normal_path.tangential_forces", f"must pair with load.forces: {len(tangential_forces)} "
                                                        f"values for {len(forces)} normal forces")
     out: list = []
     prev = None

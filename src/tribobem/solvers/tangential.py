@@ -99,16 +99,15 @@ __all__ = ["GrossSlipError", "solve_tangential"]
 #: Preconditioner of TangCG when ``solve_tangential(preconditioner=None)`` (also the one the
 #: coupling loop and the load paths use).
 DEFAULT_PRECONDITIONER = "fft"
-#: Free boundary: apply K_tt on the contact's bounding box (exact; see ``_Tangential._apply``).
-USE_BOX = True
-#: TangCG's images K v of its search directions and its FFT preconditioner in single precision
-#: where the backend supports it (``Backend.single_precision``: free boundary, the NumPy backend).  Their
-#: error, ~1e-7 of the step, does not reach the solution or the convergence test: every check of
-#: the element division recomputes K q exactly in double precision and measures the residual
-#: from it (``_TangCG._exact``).
-SINGLE_DIRECTIONS = True
-#: ... and the exact K q of a check as the last one plus K of the change of q in single
-#: precision, while that change is at most this fraction of |q| (L1; see ``_TangCG._exact``),
+# Single-precision search directions: TangCG's images K v of its search directions and its FFT
+# preconditioner are transformed in single precision where the backend supports it
+# (``Backend.single_precision``: free boundary, the NumPy backend; a backend without it runs
+# them in double precision).  Their error, ~1e-7 of the step, does not reach the solution or the
+# convergence test: every check of the element division recomputes K q exactly in double
+# precision and measures the residual from it (``_TangCG._exact``).
+#: With single-precision search directions, the exact K q of a check as the last one plus K of
+#: the change of q in single precision, while that change is at most this fraction of |q| (L1;
+#: see ``_TangCG._exact``),
 #: at a tolerance of at most ``INCREMENTAL_TOL``; above it the fraction grows with the tolerance,
 #: to at most 100x (the loose solves of the coupling loop's predictor and early passes).
 INCREMENTAL_EXACT = 1e-3
@@ -266,23 +265,23 @@ def solve_tangential(
     mu = friction_coefficient
     if isinstance(mu, (bool, np.bool_)) or not isinstance(mu, (int, float, np.integer, np.floating)) \
             or not math.isfinite(mu) or mu < 0:
-        raise InputError("friction.coefficient", f"must be a finite number >= 0, got {mu!r}")
+        raise InputError("solve_tangential.friction_coefficient", f"must be a finite number >= 0, got {mu!r}")
     mu = float(mu)
     if (force is None) == (displacement is None):
         raise InputError("friction", "give exactly one of force (force control) or displacement (displacement control)")
-    F = _as_pair(force, "friction.tangential_force")
-    D = _as_pair(displacement, "friction.tangential_displacement")
+    F = _as_pair(force, "solve_tangential.force")
+    D = _as_pair(displacement, "solve_tangential.displacement")
     if not (tol > 0 and math.isfinite(tol)):
-        raise InputError("solver.tolerance", f"must be a finite value > 0, got {tol!r}")
+        raise InputError("solve_tangential.tol", f"must be a finite value > 0, got {tol!r}")
     if method not in ("tangcg", "fista"):
-        raise InputError("solver.tangential_method", f"must be 'tangcg' or 'fista', got {method!r}")
+        raise InputError("solve_tangential.method", f"must be 'tangcg' or 'fista', got {method!r}")
     if preconditioner is None:
         preconditioner = DEFAULT_PRECONDITIONER
     if preconditioner not in ("diagonal", "fft"):
-        raise InputError("solver.tangential_preconditioner",
+        raise InputError("solve_tangential.preconditioner",
                          f"must be 'diagonal' or 'fft', got {preconditioner!r}")
     if not isinstance(max_iterations, (int, np.integer)) or max_iterations < 1:
-        raise InputError("solver.max_iterations", f"must be an integer >= 1, got {max_iterations!r}")
+        raise InputError("solve_tangential.max_iterations", f"must be an integer >= 1, got {max_iterations!r}")
     p = xp.asarray(pressure, dtype=float)
     if p.shape != grid.shape:
         raise InputError("pressure", f"shape {tuple(p.shape)} does not match the grid {grid.shape}")
@@ -522,6 +521,8 @@ class _Tangential:
         self.kii = kii
         self.L = lipschitz
         self.n = int(idx.size)
+        # row stride -> gather indices of the contact nodes in the box transform (_gather_index)
+        self._gather_cache = {}
         size = top.grid.nx * top.grid.ny
         self.full = (self.xp.zeros(size), self.xp.zeros(size))
         self.delta = np.array(delta, dtype=float)
@@ -553,7 +554,8 @@ class _Tangential:
         so the box transform is about a third of the padded one.  Else the padded operator.
 
         ``single``: the box convolution in single precision where the backend supports it (the
-        images of TangCG's search directions, see :data:`SINGLE_DIRECTIONS`); the result is
+        images of TangCG's search directions, see the single-precision note at
+        :data:`INCREMENTAL_EXACT`); the result is
         float64 either way."""
         boxed = self._apply_box()
         if boxed is not None:
@@ -590,7 +592,7 @@ class _Tangential:
         """The flat indices ``local`` of the contact nodes in a ``box`` laid out with rows of
         ``row_stride`` elements (cached per stride: ``local`` and ``box`` are this state's, fixed
         by its contact set)."""
-        cache = self.__dict__.setdefault("_gather_cache", {})
+        cache = self._gather_cache
         at = cache.get(row_stride)
         if at is None:
             at = cache[row_stride] = (local // box[1]) * row_stride + local % box[1]
@@ -625,8 +627,8 @@ class _Tangential:
             j0, m2 = axis(jj, ny)
             local = ((ii - i0) % m1) * m2 + (jj - j0) % m2
             # single-precision residuals where the backend transforms them so (a preconditioner
-            # needs no double precision; see SINGLE_DIRECTIONS)
-            real = np.float32 if SINGLE_DIRECTIONS and top.be.single_precision else np.float64
+            # needs no double precision; see the single-precision note at INCREMENTAL_EXACT)
+            real = np.float32 if top.be.single_precision else np.float64
             self._box_data = ((m1, m2), self.xp.asarray(local), self.xp.zeros(m1 * m2, dtype=real),
                               self.xp.zeros(m1 * m2, dtype=real))
         return self._box_data
@@ -643,7 +645,7 @@ class _Tangential:
         if not hasattr(self, "_apply_box_data"):
             data = None
             top = self.top
-            if not top.periodic and self.n > 0 and USE_BOX:
+            if not top.periodic and self.n > 0:
                 # the contact's exact bounding box (not the preconditioner's, rounded up to a
                 # fast length: its transform would be up to 1.2x larger per axis)
                 ii, jj = self._rows_cols()
@@ -834,7 +836,7 @@ class _TangCG(IterativeSolver):
         if recompute:
             ref = self.exact_ref
             d = None
-            if ref is not None and ref[3] < INCREMENTAL_CHECKS and SINGLE_DIRECTIONS and st.top.be.single_precision:
+            if ref is not None and ref[3] < INCREMENTAL_CHECKS and st.top.be.single_precision:
                 d = st.q - ref[0]
                 if float(self.xp.abs(d).sum()) > self.incremental_limit * ref[2]:
                     d = None
@@ -984,7 +986,7 @@ class _TangCG(IterativeSolver):
             v = v - stickf * (v.sum(axis=1) / n_st)[:, None]
         elif rim_only:
             v = self._rim_free(v, t)[0]
-        Kv = st._apply(v, single=SINGLE_DIRECTIONS)
+        Kv = st._apply(v, single=True)
         st.n_apply += 1
         if st.force_control and n_st:
             Kv = Kv - ((Kv * stickf).sum(axis=1) / n_st)[:, None]

@@ -15,7 +15,8 @@ the stress law (no adhesive traction would act there).  When one is not, the win
 cover it (with the margin) and the step is solved again (:func:`solve_coupled_windowed`), up to
 the whole grid; so the result is the whole grid's to the solvers' tolerances, never silently a
 truncated one.  Interactions that depend on the gap alone and vanish beyond a finite range
-(none, Dugdale) allow a window; so does the capillary model without its van der Waals terms
+(none, Dugdale: those that declare ``windowable``, :mod:`tribobem.interactions.base`) allow a
+window; so does the capillary model without its van der Waals terms
 (its stresses act on the active menisci and the Dugdale zone: the check after each step finds
 the islands of the whole grid's gap and grows the window when an active meniscus reaches past
 it).  A long-range law (van der Waals) is solved on the whole grid.
@@ -30,8 +31,7 @@ import numpy as np
 
 from ..elasticity.operators import ConvolutionOperator, free_boundary_operator
 from ..grid import Grid
-from ..interactions.base import NoInteraction
-from ..interactions.dugdale import DugdaleAdhesion
+from ..interactions.base import NoInteraction, law_windowable
 from ..results import CoupledResult, NormalResult
 from .coupling import solve_coupled
 
@@ -121,7 +121,7 @@ class Window:
             The free-boundary operator of an (i1 - i0) x (j1 - j0) grid with the same cell size
             (m), materials, components and backend (at most four window shapes are kept).
         """
-        cache = operator.__dict__.setdefault("_window_operators", {})
+        cache = operator.cache.window_operators
         m1, m2 = self.shape
         op = cache.get((m1, m2))
         if op is None:
@@ -335,7 +335,7 @@ def _exterior_displacement(operator: ConvolutionOperator, window: Window, p_ext)
     """(u_x, u_y, u_z) of the exterior traction ``p_ext`` on the whole grid (m), cached on the
     operator per window and traction: a hysteresis step usually keeps the last step's menisci,
     so one whole-grid 3x3 convolution serves many steps."""
-    cache = operator.__dict__.setdefault("_exterior_displacements", {})
+    cache = operator.cache.exterior_displacements
     key = (window.i0, window.i1, window.j0, window.j1, hash(p_ext.tobytes()))
     hit = cache.get(key)
     if hit is not None and np.array_equal(hit[0], p_ext):
@@ -447,10 +447,9 @@ def windowable(operator: ConvolutionOperator, interaction) -> bool:
     """
     if operator.periodic:
         return False
-    if getattr(interaction, "self_consistent", False):
-        # a capillary model: finite support without the long-range van der Waals terms
-        return bool(getattr(interaction, "windowable", False))
-    return interaction is None or type(interaction) in (NoInteraction, DugdaleAdhesion)
+    # The law says (its ``windowable``): none and Dugdale do; a capillary model does without
+    # its long-range van der Waals terms (finite support); a law that does not say does not.
+    return law_windowable(interaction)
 
 
 def auto_window(res: CoupledResult | NormalResult, operator: ConvolutionOperator, interaction) -> Window | None:
