@@ -77,10 +77,16 @@ class ContactPair:
     ----------
     body1, body2 : Material
         Lower and upper body.  At least one must be elastic.
+    model : BodyModel, optional
+        How the two bodies respond, a :class:`tribobem.elasticity.bodies.BodyModel`; None: two
+        homogeneous half-spaces (``"halfspace"``).  The operators take their kernels from it
+        (:func:`tribobem.elasticity.bodies.body_model_of`, which also checks its type: this
+        module, below the elasticity, does not import it).
     """
 
     body1: Material
     body2: Material
+    model: object | None = None
 
     def __post_init__(self):
         if self.body1.is_rigid and self.body2.is_rigid:

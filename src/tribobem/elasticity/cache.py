@@ -38,8 +38,9 @@ class OperatorCache:
         Displacement of a cell under its own unit pressure (m/Pa), the diagonal of K
         (``tribobem.solvers.normal._self_compliance``).
     stiffness_box_spectra : dict
-        Box shape (n1, n2) -> the rfft2 of |q| on it (rad/m), the settled-phase preconditioner of
-        Polonsky-Keer's CG (``tribobem.solvers.normal._stiffness_box``).
+        Box shape (n1, n2) -> the body model's stiffness shape on it (|q| in rad/m for the
+        half-space, :meth:`~tribobem.elasticity.bodies.BodyModel.preconditioner_stiffness`), the
+        settled-phase preconditioner of Polonsky-Keer's CG (``tribobem.solvers.normal._stiffness_box``).
     normcg_preconditioner : ConvolutionOperator or None
         NormCG's preconditioner, the convolution with 1/K (Pa/m)
         (:func:`tribobem.solvers.normal_cg.fft_preconditioner`).

@@ -18,6 +18,11 @@ spectra:
   every block is set to 0 in both: in a periodic system the mean displacement is arbitrary
   and is carried by the rigid approach (and tangential shifts) instead.
 
+The kernels come from the pair's body model (``pair.model``, read by
+:func:`tribobem.elasticity.bodies.body_model_of`; the homogeneous half-space described here
+unless the pair names another): its periodic spectra, and its free-boundary influence
+coefficients, which the DC-FFT code below lays out and transforms whatever the model.
+
 Both operators take several traction components (``components=("x", "y", "z")`` for the
 coupled normal-tangential problem of dissimilar bodies; component keys ``out + in``, e.g.
 ``"zx"`` is u_z from q_x).  The normal and in-plane blocks of the two bodies add, the
@@ -43,8 +48,8 @@ from ..grid import Grid
 from ..materials import ContactPair
 from .backend import Backend, default_workers, times_spectrum, work_buffers
 from .backends import get_backend
+from .bodies import body_model_of
 from .cache import OperatorCache
-from .influence import lattice_coefficients
 
 AXES = ("x", "y", "z")
 
@@ -58,7 +63,7 @@ class ConvolutionOperator:
     grid : Grid
         The domain; displacements and tractions have shape ``grid.shape``.
     pair : ContactPair
-        The two bodies (their composite compliances define the kernels).
+        The two bodies (their body model, ``pair.model``, made the kernels).
     components : tuple of str
         Traction / displacement components, a subset of ("x", "y", "z").
     spectra : mapping
@@ -107,6 +112,12 @@ class ConvolutionOperator:
     def effective_modulus(self) -> float:
         """The pair's effective modulus E* (Pa)."""
         return self.pair.effective_modulus
+
+    @property
+    def body_model(self):
+        """The pair's body model (:mod:`tribobem.elasticity.bodies`), which made the spectra: what
+        the solvers and checks ask for the bodies' response instead of computing it from E*."""
+        return body_model_of(self.pair)
 
     def block(self, out: str, inp: str) -> "ConvolutionOperator":
         """The single-component operator giving u_out from traction_in.
@@ -282,14 +293,16 @@ def _row_blocks(nx: int, step: int):
 
 def _padded_kernel_spectrum(key, pair, nx, ny, dx, dy):
     """The 2-D real FFT of the wrap-around coefficient array of block ``key`` (None if zero),
-    real when its imaginary part is round-off.  The coefficients are computed from their
-    corner lattice (:func:`~tribobem.elasticity.influence.lattice_coefficients`) and transformed
+    real when its imaginary part is round-off.  The coefficients are the pair's body model's
+    (:meth:`~tribobem.elasticity.bodies.BodyModel.influence_coefficients`; the half-space's from
+    their corner lattice, :func:`~tribobem.elasticity.influence.lattice_coefficients`), transformed
     along y in blocks of rows, then along x in place, so that the peak is the complex
     half-spectrum and a few blocks, not several full 2nx x 2ny arrays (rfft along the last axis,
     then fft along the first: the transforms of ``rfft2``).  The blocks run on the FFT threads
     (at most ``_KERNEL_THREADS``): NumPy's ufuncs release the GIL, and each block writes its own
     rows, so the numbers do not depend on the thread count or the block size."""
     N1, N2 = 2 * nx, 2 * ny
+    model = body_model_of(pair)
     C = np.empty((N1, N2 // 2 + 1), dtype=complex)
     threads = min(default_workers(), _KERNEL_THREADS)
     # the blocks in flight together hold about one single-threaded block (the peak stays C + one
@@ -301,7 +314,7 @@ def _padded_kernel_spectrum(key, pair, nx, ny, dx, dy):
     def block(rows) -> bool:
         i0, i1, k0 = rows
         xc = (np.arange(k0, k0 + (i1 - i0) + 1) - 0.5) * dx
-        coeff = lattice_coefficients(key, pair, xc, yc)
+        coeff = model.influence_coefficients(pair, key, xc, yc)
         coeff[:, 0] = 0.0  # offset -ny (wrap-around column ny) never occurs in the linear convolution
         if i0 == nx:
             coeff[0, :] = 0.0  # nor offset -nx (row nx)
@@ -341,7 +354,8 @@ def free_boundary_operator(grid: Grid, pair: ContactPair, components=("z",),
     grid : Grid
         Domain (``grid.periodic`` is ignored: this operator is always non-periodic).
     pair : ContactPair
-        Materials of the two bodies.
+        Materials of the two bodies; its body model (``pair.model``; None: the half-space) gives
+        the kernels.
     components : tuple of str
         ("z",) for normal contact, ("x", "y", "z") for the coupled problem.
     backend : str or Backend
@@ -358,63 +372,8 @@ def free_boundary_operator(grid: Grid, pair: ContactPair, components=("z",),
         grid = Grid(grid.nx, grid.ny, grid.lx, grid.ly, False)
     grid.check_memory(n_components=len(components))  # before any large allocation
     spectra = _free_boundary_cached(grid, pair, components, be.name)
-    return ConvolutionOperator(grid, pair, components, spectra, (2 * grid.nx, 2 * grid.ny), be, "free boundary (DC-FFT)")
-
-
-def _wavevectors(grid: Grid):
-    qx = 2.0 * np.pi * np.fft.fftfreq(grid.nx, grid.dx)[:, None]
-    qy = 2.0 * np.pi * np.fft.rfftfreq(grid.ny, grid.dy)[None, :]
-    return qx, qy
-
-
-def _body_constants(pair: ContactPair) -> dict:
-    """Material factors of the two-body Fourier kernels (1/Pa), see :func:`periodic_operator`.
-
-    ``n``: sum (1 - nu_i)/G_i = 2/E*; ``t``: sum 1/G_i; ``nu``: sum nu_i/G_i; ``c``: the
-    coupling (1 - 2 nu_1)/(2 G_1) - (1 - 2 nu_2)/(2 G_2) = 2 pi C_c.  Rigid bodies give 0.
-    """
-    elastic = [(m, sign) for m, sign in ((pair.body1, 1.0), (pair.body2, -1.0)) if not m.is_rigid]
-    return {
-        "n": 2.0 / pair.effective_modulus,
-        "t": sum(1.0 / m.shear_modulus for m, _ in elastic),
-        "nu": sum(m.nu / m.shear_modulus for m, _ in elastic),
-        "c": sum(sign * (1.0 - 2.0 * m.nu) / (2.0 * m.shear_modulus) for m, sign in elastic),
-    }
-
-
-#: Wavevector sums each block needs: S1 = 1/q, Sxx = qx^2/q^3, Syy = qy^2/q^3,
-#: Sxy = qx qy/q^3, Sx = qx/q^2, Sy = qy/q^2 (times the cell sincs for kernel="influence").
-_BLOCK_SUMS = {"zz": ("S1",), "xx": ("S1", "Sxx"), "yy": ("S1", "Syy"), "xy": ("Sxy",), "yx": ("Sxy",),
-               "zx": ("Sx",), "xz": ("Sx",), "zy": ("Sy",), "yz": ("Sy",)}
-
-
-def _shape_sums(Qx, Qy, weight, names, acc) -> None:
-    """Add ``weight`` times the wavevector functions ``names`` at (Qx, Qy) to ``acc``.
-
-    q = 0 can only occur at index [0, 0] (the unaliased zero mode); its value is arbitrary
-    here and is set to 0 by the caller.
-    """
-    Q2 = Qx * Qx + Qy * Qy
-    if Q2[0, 0] == 0.0:
-        Q2[0, 0] = 1.0
-    if any(n in names for n in ("S1", "Sxx", "Syy", "Sxy")):
-        w1 = weight / np.sqrt(Q2)                           # weight / q
-        if "S1" in names:
-            acc["S1"] += w1
-        if any(n in names for n in ("Sxx", "Syy", "Sxy")):
-            w3 = w1 / Q2                                    # weight / q^3
-            if "Sxx" in names:
-                acc["Sxx"] += w3 * (Qx * Qx)
-            if "Syy" in names:
-                acc["Syy"] += w3 * (Qy * Qy)
-            if "Sxy" in names:
-                acc["Sxy"] += w3 * (Qx * Qy)
-    if "Sx" in names or "Sy" in names:
-        w2 = weight / Q2                                    # weight / q^2
-        if "Sx" in names:
-            acc["Sx"] += w2 * Qx
-        if "Sy" in names:
-            acc["Sy"] += w2 * Qy
+    return ConvolutionOperator(grid, pair, components, spectra, (2 * grid.nx, 2 * grid.ny), be,
+                               _kind("free boundary (DC-FFT)", pair))
 
 
 @lru_cache(maxsize=8)
@@ -423,52 +382,13 @@ def _periodic_cached(grid: Grid, pair: ContactPair, components: tuple, kernel: s
     if kernel not in ("spectral", "influence"):
 
         raise InputError("solver.kernel", f"must be 'spectral' or 'influence', got {kernel!r}")
-    c = _body_constants(pair)
-    # blocks that are nonzero for these materials (the coupling vanishes for identical bodies)
-    keys = [o + i for o in components for i in components]
-    keys = [k for k in keys if not (k in ("zx", "xz", "zy", "yz") and c["c"] == 0.0)
-            and not (k in ("xy", "yx") and c["nu"] == 0.0)]
-    names = sorted({s for k in keys for s in _BLOCK_SUMS[k]})
-    qx, qy = _wavevectors(grid)
-    shape = np.broadcast_shapes(qx.shape, qy.shape)
-    acc = {s: np.zeros(shape) for s in names}
-    if kernel == "spectral":
-        _shape_sums(qx, qy, 1.0, names, acc)
-    else:
-        # Poisson summation: DFT of the periodised piecewise-constant coefficients
-        gx, gy = 2.0 * np.pi / grid.dx, 2.0 * np.pi / grid.dy
-        Qys = [qy + my * gy for my in range(-n_alias, n_alias + 1)]
-        sys_ = [np.sinc(Qy * grid.dy / (2.0 * np.pi)) for Qy in Qys]  # np.sinc(t) = sin(pi t)/(pi t)
-        for mx in range(-n_alias, n_alias + 1):
-            Qx = qx + mx * gx
-            sx = np.sinc(Qx * grid.dx / (2.0 * np.pi))
-            for Qy, sy in zip(Qys, sys_):
-                _shape_sums(Qx, Qy, sx * sy, names, acc)
-    # the kernels odd in qx (qy) have no Nyquist term: the odd periodic kernel sums to 0 there
-    nyq_x = grid.nx // 2 if grid.nx % 2 == 0 else None
-    nyq_y = grid.ny // 2 if grid.ny % 2 == 0 else None
-    for s in names:
-        if nyq_x is not None and s in ("Sxy", "Sx"):
-            acc[s][nyq_x, :] = 0.0
-        if nyq_y is not None and s in ("Sxy", "Sy"):
-            acc[s][:, nyq_y] = 0.0
-        acc[s][0, 0] = 0.0  # q = 0: the mean displacement is carried by the rigid shifts
-    build = {
-        "zz": lambda: c["n"] * acc["S1"],
-        "xx": lambda: c["t"] * acc["S1"] - c["nu"] * acc["Sxx"],
-        "yy": lambda: c["t"] * acc["S1"] - c["nu"] * acc["Syy"],
-        "xy": lambda: -c["nu"] * acc["Sxy"],
-        "zx": lambda: -1j * c["c"] * acc["Sx"],
-        "xz": lambda: 1j * c["c"] * acc["Sx"],
-        "zy": lambda: -1j * c["c"] * acc["Sy"],
-        "yz": lambda: 1j * c["c"] * acc["Sy"],
-    }
-    spectra = {}
-    for k in keys:
-        if k == "yx" and "xy" in spectra:
-            spectra[k] = spectra["xy"]  # the same (real, symmetric) kernel
-            continue
-        spectra[k] = be.asarray(np.ascontiguousarray(build["xy" if k == "yx" else k]()))
+    host = body_model_of(pair).periodic_spectra(pair, grid, components, kernel, n_alias)
+    # onto the backend, a block that shares another's array (yx = xy) sharing it there too
+    spectra, moved = {}, {}
+    for k, a in host.items():
+        if id(a) not in moved:
+            moved[id(a)] = be.asarray(a)
+        spectra[k] = moved[id(a)]
     return spectra
 
 
@@ -497,7 +417,8 @@ def periodic_operator(grid: Grid, pair: ContactPair, components=("z",), kernel: 
     grid : Grid
         The periodic cell (a non-periodic grid is taken as periodic).
     pair : ContactPair
-        Materials of the two bodies.
+        Materials of the two bodies; its body model (``pair.model``; None: the half-space) gives
+        the kernels.
     components : tuple of str
         ("z",) for normal contact (default); ("x", "y", "z") (or a subset) for the coupled
         normal-tangential problem.
@@ -526,7 +447,7 @@ def periodic_operator(grid: Grid, pair: ContactPair, components=("z",), kernel: 
         grid = Grid(grid.nx, grid.ny, grid.lx, grid.ly, True)
     grid.check_memory(n_components=len(components))  # before any large allocation
     spectra = _periodic_cached(grid, pair, components, kernel, n_alias, be.name)
-    return ConvolutionOperator(grid, pair, components, spectra, grid.shape, be, f"periodic ({kernel})")
+    return ConvolutionOperator(grid, pair, components, spectra, grid.shape, be, _kind(f"periodic ({kernel})", pair))
 
 
 def make_operator(grid: Grid, pair: ContactPair, components=("z",), backend: str | Backend = "numpy",
@@ -538,7 +459,7 @@ def make_operator(grid: Grid, pair: ContactPair, components=("z",), backend: str
     grid : Grid
         The domain (sizes in m); ``grid.periodic`` picks the operator.
     pair : ContactPair
-        The two bodies.
+        The two bodies and their body model (``pair.model``; None: the half-space).
     components : tuple of str
         Traction / displacement components, a subset of ("x", "y", "z").
     backend : str or Backend
@@ -554,6 +475,13 @@ def make_operator(grid: Grid, pair: ContactPair, components=("z",), backend: str
     if grid.periodic:
         return periodic_operator(grid, pair, components, backend=backend, **kw)
     return free_boundary_operator(grid, pair, components, backend=backend)
+
+
+def _kind(base: str, pair: ContactPair) -> str:
+    """The operator's description: ``base``, with the body model's name unless it is the
+    half-space (whose operators keep the descriptions they always had)."""
+    name = body_model_of(pair).name
+    return base if name == "halfspace" else f"{base}, {name} bodies"
 
 
 def _check_components(components: tuple) -> None:

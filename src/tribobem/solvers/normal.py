@@ -71,8 +71,6 @@ from __future__ import annotations
 import math
 import time
 
-import numpy as np
-
 from ..elasticity.backend import work_array
 from ..elasticity.columns import KernelColumns, convolve, convolve_buffers
 from ..elasticity.operators import ConvolutionOperator
@@ -109,8 +107,10 @@ def _self_compliance(op: ConvolutionOperator) -> float:
 def _stiffness_box(op: ConvolutionOperator, idx):
     """The preconditioner of the CG's settled phase on the contact nodes ``idx`` (flat).
 
-    M = |q|, the half-space's stiffness 1/K(q) = E* |q| / 2 up to the constant, which a
-    preconditioner does not need (so one M serves every material pair), applied on the
+    M = the body model's stiffness shape 1/K(q) up to a constant
+    (:meth:`~tribobem.elasticity.bodies.BodyModel.preconditioner_stiffness`; for the half-space
+    |q|, its 1/K(q) = E* |q| / 2 up to the constant, which a preconditioner does not need, so one
+    M serves every material pair), applied on the
     contact's bounding box taken periodic (two cells larger, to a fast FFT length): FFTs of the
     box instead of the padded grid (a ball contact across 181 of 256 free-boundary cells: 192^2
     against 512^2).  A box 1.25x or 2x larger per axis, with less wrap-around, gave the same
@@ -137,15 +137,11 @@ def _stiffness_box(op: ConvolutionOperator, idx):
     (i0, n1), (j0, n2) = axis(i, g.nx), axis(j, g.ny)
     if n1 * n2 > BOX_FRACTION * op.fft_shape[0] * op.fft_shape[1]:
         return None
-    # |q| per box shape, cached on the operator (the box of a load path changes shape rarely)
+    # M per box shape, cached on the operator (the box of a load path changes shape rarely)
     cache = op.cache.stiffness_box_spectra
     q = cache.get((n1, n2))
     if q is None:
-        qx = 2.0 * math.pi * np.fft.fftfreq(n1, d=g.lx / g.nx)
-        qy = 2.0 * math.pi * np.fft.rfftfreq(n2, d=g.ly / g.ny)
-        q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
-        # the mean: the longest wavelength's stiffness (the force-balanced CG never uses it)
-        q[0, 0] = min(float(qx[1]) if n1 > 1 else math.inf, float(qy[1]) if n2 > 1 else math.inf)
+        q = op.body_model.preconditioner_stiffness(op.pair, (n1, n2), g.lx / g.nx, g.ly / g.ny)
         # complex with zero imaginary parts: the same products, faster in NumPy than by a real array
         q = cache[(n1, n2)] = op.backend.asarray(q.astype(complex))
     return (i - i0, j - j0), (n1, n2), q, op.xp.zeros((n1, n2))
