@@ -19,7 +19,7 @@ from tribobem.units import format_quantity, format_value
 
 # --------------------------------------------------------------------------- helpers
 def _capture(monkeypatch):
-    """Make figures.save_png keep the Figure (drawn at its final sizes) instead of writing it."""
+    """Make the figure modules' save_png keep the Figure (drawn at its final sizes) instead of writing it."""
     got = []
 
     def keep(fig, path):
@@ -28,7 +28,8 @@ def _capture(monkeypatch):
         got.append(fig)
         return path
 
-    monkeypatch.setattr(figures, "save_png", keep)
+    for family in (figures.maps, figures.load_curve, figures.stickslip, figures.hysteresis, figures.humid_maps):
+        monkeypatch.setattr(family, "save_png", keep)
     return got
 
 

@@ -13,7 +13,8 @@ import pytest
 
 from tribobem.output import make_figures, render_report, replot
 from tribobem.output.figures import meniscus_mask
-from tribobem.output.humid import is_humid_friction, per_rh, rh_groups, rh_summary
+from tribobem.output.humid import per_rh, rh_groups, rh_summary
+from tribobem.output.run_kind import run_view
 from tribobem.units import format_quantity
 
 RHS = (0.3, 0.7)
@@ -77,7 +78,7 @@ def _table(sec):
 def test_partial_slip_report_has_one_row_per_rh_and_dry(slip):
     res, out = slip
     s = res.summary
-    assert is_humid_friction(s) and len(s["static_friction_force"]) == len(RHS)
+    assert run_view(s).humid_friction and len(s["static_friction_force"]) == len(RHS)
     html = (out / "report.html").read_text()
     sec = _section(html)
     table = _table(sec)
@@ -148,7 +149,7 @@ def test_per_rh_helpers(slip):
     sub, offset = rh_summary(s, -1)
     assert sub["rh"] == RHS[-1] and offset == groups[1][1] and sub["steps"] == groups[1][2]
     assert sub["static_friction_force"] == s["static_friction_force"][-1]
-    assert "dry" not in sub and not is_humid_friction(sub)
+    assert "dry" not in sub and not run_view(sub).humid_friction
     # run-wide lists stay whole even when as long as the RH list
     two = {**s, "warnings": ["w1", "w2"]}
     assert rh_summary(two, 0)[0]["warnings"] == ["w1", "w2"]
@@ -217,7 +218,7 @@ def test_hysteresis_loop_maps_of_the_last_rh(loop):
 def test_dry_run_has_no_humid_outputs(tmp_path_factory):
     res, out = _run(tmp_path_factory, "dry", _partial_slip(humid=False))
     s = res.summary
-    assert "rh" not in s and not is_humid_friction(s)
+    assert "rh" not in s and not run_view(s).humid_friction
     html = (out / "report.html").read_text()
     assert "Humid friction" not in html and "<h2>Friction</h2>" in html
     assert not any((out / f"{n}.png").exists() for n in (*HUMID_FIGURES, "stickslip_rh"))

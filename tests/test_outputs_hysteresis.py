@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from tribobem.output import make_figures, render_report, replot
-from tribobem.output.figures import (is_hysteresis, loop_map_steps, mindlin_reference, turning_point_letters)
+from tribobem.output.figures import loop_map_steps, mindlin_reference, turning_point_letters
+from tribobem.output.run_kind import run_view
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "hysteresis_mindlin.toml"
 HYSTERESIS_FIGURES = ("hysteresis_loop", "lateral_stiffness", "dissipation_cycle1", "stickslip_loop")
@@ -62,11 +63,12 @@ def test_paper_e_letters():
     assert turning_point_letters([]) == {}
 
 
-def test_is_hysteresis():
-    assert is_hysteresis({"kind": "hysteresis"})
-    assert is_hysteresis({"steps": [{"cycle": 0}]})
-    assert not is_hysteresis({"kind": "partial_slip", "steps": [{"branch": "loading"}]})
-    assert not is_hysteresis(None)
+def test_hysteresis_is_the_kind_not_the_rows():
+    assert run_view({"kind": "hysteresis"}).hysteresis
+    # rows with a cycle do not make a run a hysteresis run: summary.json's kind does
+    assert not run_view({"steps": [{"cycle": 0}]}).hysteresis
+    assert not run_view({"kind": "partial_slip", "steps": [{"branch": "loading"}]}).hysteresis
+    assert not run_view(None).hysteresis
 
 
 def test_loop_maps_at_most_six(tiny):

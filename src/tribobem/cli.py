@@ -170,25 +170,40 @@ def _warn_nonconverged(summary: dict, quiet: bool) -> None:
                         "not converge; see summary.json and the report")
 
 
+#: Header label and dimension of each step key a run kind's step table may show
+#: (:attr:`tribobem.runs.kind.RunKind.columns`).
+_STEP_COLUMN_LABELS = {
+    "rh": ("RH", "dimensionless"), "normal_force": ("F", "force"), "approach": ("\u03b4", "length"),
+    "tangential_force_x": ("F_x", "force"), "displacement_x": ("\u03b4_x", "length"),
+    "contact_area": ("A_c", "area"), "adhesive_area": ("A_adh", "area"), "stick_ratio": ("A_st/A_c", "dimensionless"),
+    "max_pressure": ("p_max", "pressure"), "capillary_force": ("F_cap", "force"),
+    "solid_solid_force": ("F_ss", "force"), "water_solid_force": ("F_ws", "force"), "wetted_area": ("A_men", "area"),
+    "island_count": ("islands", "dimensionless"),
+}
+
+
+def _step_table_columns(summary: dict) -> tuple:
+    """(key, label, dimension) of the step table's columns: those the run kind declares for a run
+    with or without ``[humidity]`` (:meth:`~tribobem.runs.kind.RunKind.step_columns`); a kind
+    this version does not know (a result folder of another version): the normal-load columns."""
+    from .output.run_kind import run_view
+    from .runs import KINDS
+    from .runs.kind import NORMAL_COLUMNS
+
+    view = run_view(summary)
+    kind = KINDS.get(view.kind)
+    keys = kind.step_columns(view.humid) if kind is not None else NORMAL_COLUMNS
+    return tuple((key, *_STEP_COLUMN_LABELS[key]) for key in keys)
+
+
 def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None:
+    from .output.run_kind import run_view
     from .units import display_unit, format_quantity
 
     steps = summary.get("steps", [])
+    view = run_view(summary)
     table = Table(title=f"tribobem {summary.get('kind')} run", show_lines=False, pad_edge=False)
-    cols = (("normal_force", "F", "force"), ("approach", "\u03b4", "length"), ("contact_area", "A_c", "area"),
-            ("adhesive_area", "A_adh", "area"), ("max_pressure", "p_max", "pressure"))
-    if any("tangential_force_x" in s for s in steps):
-        # Tangential kinds: the friction columns replace the approach and the cohesive area.
-        cols = (("normal_force", "F", "force"), ("tangential_force_x", "F_x", "force"),
-                ("displacement_x", "\u03b4_x", "length"), ("contact_area", "A_c", "area"),
-                ("stick_ratio", "A_st/A_c", "dimensionless"), ("max_pressure", "p_max", "pressure"))
-        if any("rh" in s for s in steps):  # humid friction: one ramp or loop per RH, told apart by RH
-            cols = (("rh", "RH", "dimensionless"),) + cols
-    elif any("capillary_force" in s for s in steps):
-        # Capillary kinds: one row per RH with the adhesive force components and the meniscus.
-        cols = (("rh", "RH", "dimensionless"), ("normal_force", "F", "force"), ("capillary_force", "F_cap", "force"),
-                ("solid_solid_force", "F_ss", "force"), ("water_solid_force", "F_ws", "force"),
-                ("contact_area", "A_c", "area"), ("wetted_area", "A_men", "area"), ("island_count", "islands", "dimensionless"))
+    cols = _step_table_columns(summary)
     scales = {}
     for key, label, dim in cols:
         vals = [s.get(key) for s in steps if s.get(key) is not None]
@@ -223,7 +238,7 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         console.print(f"{hidden} of {len(steps)} steps hidden above; summary.json and the report have every step")
     if summary.get("friction_coefficient") is not None:
         mu = summary["friction_coefficient"]
-        if isinstance(summary.get("rh"), list):  # humid friction: the run-level values are per RH
+        if view.humid_friction:  # the run-level values are per RH
             _print_humid_friction(summary, console)
         elif summary.get("static_friction_force") is not None:
             console.print("gross-slip onset (static friction): "
@@ -233,9 +248,9 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
         elif summary.get("gross_slip") is False:
             console.print(f"no gross slip along the ramp (\u03bc = {mu:g}); the largest step keeps a stick zone "
                           "(the warning below says where gross slip sets in)")
-        if not isinstance(summary.get("rh"), list):
+        if not view.humid_friction:
             _print_loop(summary, console)
-    if isinstance(summary.get("pull_off_force"), list):  # a humid pull-off: one per RH
+    if view.humid_pulloff:  # one pull-off force per RH
         console.print("pull-off force: " + ", ".join(
             f"[bold]{format_quantity(s.get('pull_off_force'), 'force', 4)}[/bold] at RH {s.get('rh'):g}"
             for s in steps if s.get("rh") is not None))

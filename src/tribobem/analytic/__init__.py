@@ -14,6 +14,11 @@ Modules::
     capillary Sphere-flat capillary force with films (thesis A.27-A.29) and the island rule's value.
     punch     Rounded and sharp flat punches (burls; Sneddon 1965), Kendall's flat-punch pull-off and
               the full-stick tangential stiffness 8 a/k.
+    tangential_axisymmetric
+              Partial slip of any axisymmetric contact of uncoupled bodies (Ciavarella-Jaeger:
+              sphere, rounded and flat punch) and which reference a run's geometry admits.
+    friction_loops
+              The analytic loops and K_L references drawn beside a hysteresis run's summary.
 
 Conventions: SI units, E* the composite modulus, forces positive when compressive, pull-off
 forces NEGATIVE (``*_pull_off_magnitude`` helpers give |F|), approach positive when the bodies

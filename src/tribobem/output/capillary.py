@@ -21,8 +21,9 @@ import numpy as np
 
 from ..units import display_unit, format_value
 from .plotting import map_axes, map_extent, new_figure, save_png
+from .run_kind import run_view
 
-__all__ = ["is_capillary", "is_humid_pulloff", "chosen_steps", "capillary_step", "capillary_forces_figure",
+__all__ = ["chosen_steps", "capillary_step", "capillary_forces_figure",
            "pulloff_rh_figure", "meniscus_figure", "films_figure", "capillary_figures", "FIGURE_NAMES"]
 
 #: Figure names of this module, in report order.
@@ -35,37 +36,6 @@ _LABELS = ("free", "dry cross-cut (no seed)", "meniscus (dP_cap)", "Dugdale zone
 
 def _rows(summary: dict | None) -> list[dict]:
     return [r for r in (summary or {}).get("steps", []) if isinstance(r, dict) and r.get("rh") is not None]
-
-
-def is_capillary(summary: dict | None) -> bool:
-    """True for a run whose steps are RH steps with capillary forces (either capillary kind).
-
-    Parameters
-    ----------
-    summary : dict or None
-        A run's summary (:func:`~tribobem.output.summary.read_summary`).
-
-    Returns
-    -------
-    bool
-    """
-    return any("capillary_force" in r for r in _rows(summary))
-
-
-def is_humid_pulloff(summary: dict | None) -> bool:
-    """True for a humid pull-off run (kind pulloff with one pull-off force per RH).
-
-    Parameters
-    ----------
-    summary : dict or None
-        A run's summary (:func:`~tribobem.output.summary.read_summary`).
-
-    Returns
-    -------
-    bool
-    """
-    s = summary or {}
-    return s.get("kind") == "pulloff" and isinstance(s.get("pull_off_force"), list)
 
 
 def _rh_of(ds) -> np.ndarray | None:
@@ -158,7 +128,7 @@ def capillary_forces_figure(summary: dict, path) -> Path | None:
         pull-off run (:func:`pulloff_rh_figure` draws that one).
     """
     rows = [r for r in _rows(summary) if r.get("capillary_force") is not None]
-    if not rows or is_humid_pulloff(summary):
+    if not rows or run_view(summary).humid_pulloff:
         return None
     rows = sorted(rows, key=lambda r: r["rh"])
     rh = np.array([r["rh"] for r in rows], dtype=float) * 100.0
@@ -216,7 +186,7 @@ def pulloff_rh_figure(summary: dict, path) -> Path | None:
     pathlib.Path or None
         The written file; None for another kind of run or without RH steps.
     """
-    if not is_humid_pulloff(summary):
+    if not run_view(summary).humid_pulloff:
         return None
     rows = sorted(_rows(summary), key=lambda r: r["rh"])
     if not rows:

@@ -21,7 +21,8 @@ steps, the friction curve and the loops of several RHs tangle; this module split
   field.
 
 Every function reads the summary and/or the fields dataset only, so ``tribobem plot`` re-makes
-the figures from the files.  A dry run (no run-level ``rh`` list) gets nothing from here.
+the figures from the files.  A dry run (a friction kind without ``[humidity]``,
+:func:`~tribobem.output.run_kind.run_view`) gets nothing from here.
 """
 
 from __future__ import annotations
@@ -33,9 +34,10 @@ import numpy as np
 from ..units import display_unit, format_value
 from .plotting import finite as _num
 from .plotting import friction_coefficient as _friction_coefficient
-from .plotting import is_hysteresis, new_figure, save_png
+from .plotting import new_figure, save_png
+from .run_kind import run_view
 
-__all__ = ["FIGURE_NAMES", "is_humid_friction", "rh_groups", "per_rh", "rh_summary", "zero_load_row", "rh_colors",
+__all__ = ["FIGURE_NAMES", "rh_groups", "per_rh", "rh_summary", "zero_load_row", "rh_colors",
            "rh_label", "humid_rh_figure", "humid_curve_figure", "humid_friction_figures"]
 
 #: Figure names of this module, in report order.
@@ -46,24 +48,6 @@ FIGURE_NAMES = ("humid_friction_rh", "humid_friction_curve")
 _LIST_SHAPED = ("dissipated_energy", "dissipation_work", "lateral_stiffness", "failed_steps", "onset_bracket",
                 "solve_window", "ramp_message")
 _DRY_STYLE = {"color": "0.35", "ls": "--", "lw": 1.2}
-
-
-def is_humid_friction(summary: dict | None) -> bool:
-    """True for a humid friction run: a run-level ``rh`` list and tangential step rows.
-
-    Parameters
-    ----------
-    summary : dict or None
-        The run summary (summary.json); None gives False.
-
-    Returns
-    -------
-    bool
-    """
-    s = summary or {}
-    if not isinstance(s.get("rh"), (list, tuple)) or not s["rh"]:
-        return False
-    return any(isinstance(r, dict) and "tangential_force_x" in r for r in s.get("steps") or [])
 
 
 def rh_label(rh) -> str:
@@ -147,7 +131,7 @@ def rh_summary(summary: dict, index: int) -> tuple[dict, int]:
     """A summary of one RH of a humid friction run, shaped like a dry run's.
 
     The per-RH run-level lists become that RH's values, ``steps`` that RH's rows, ``rh`` the
-    scalar RH (so :func:`is_humid_friction` is False for it) and ``dry`` is dropped: the dry
+    scalar RH (so its :func:`~tribobem.output.run_kind.run_view` is not ``humid_friction``) and ``dry`` is dropped: the dry
     figures and report tables can then show one RH.
 
     Parameters
@@ -325,14 +309,14 @@ def humid_rh_figure(summary: dict, path) -> Path | None:
     Path or None
         The written PNG file, or None when nothing was drawn.
     """
-    if not is_humid_friction(summary):
+    if not run_view(summary).humid_friction:
         return None
     rhs = [float(v) for v in summary["rh"]]
     x = 100.0 * np.asarray(rhs)
     dry = summary.get("dry") or {}
     mu = _friction_coefficient(summary)
     panels = []  # (title, dimension, series, dry lines, unit)
-    if is_hysteresis(summary):
+    if run_view(summary).hysteresis:
         tables = per_rh(summary, "lateral_stiffness")
         colors = {"A": "#1f77b4", "B": "#d62728", "C": "#2ca02c"}
         series = [(f"K$_L$ at {p}", [_stiffness_at(t, p) for t in tables], c, "o") for p, c in colors.items()]
@@ -405,14 +389,14 @@ def humid_curve_figure(summary: dict, path) -> Path | None:
     Path or None
         The written PNG file, or None when nothing was drawn.
     """
-    if not is_humid_friction(summary):
+    if not run_view(summary).humid_friction:
         return None
     groups = [(rh, [r for r in rows if _num(r.get("tangential_force_x")) is not None
                     and _num(r.get("displacement_x")) is not None]) for rh, _, rows in rh_groups(summary)]
     groups = [(rh, rows) for rh, rows in groups if len(rows) >= 2]
     if not groups:
         return None
-    hyst = is_hysteresis(summary)
+    hyst = run_view(summary).hysteresis
     mu = _friction_coefficient(summary)
     colors = rh_colors([rh for rh, _ in groups])
     F = np.concatenate([[float(r["tangential_force_x"]) for r in rows] for _, rows in groups])
@@ -535,7 +519,7 @@ def humid_friction_figures(ds, summary: dict, outdir) -> dict:
     dict
         Figure name -> Path of the PNG written; empty for a dry run.
     """
-    if not is_humid_friction(summary):
+    if not run_view(summary).humid_friction:
         return {}
     outdir = Path(outdir)
     out = {}

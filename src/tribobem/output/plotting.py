@@ -16,7 +16,7 @@ from .atomic import atomic_write_bytes
 
 __all__ = ["DPI", "COLORS", "CONTACT_COLORS", "MIN_FONT", "MIN_INSET_FONT", "new_figure", "save_png", "legible",
            "keep_inside", "spread_labels", "map_extent", "map_axes", "step_title", "profile_row", "finite",
-           "friction_coefficient", "is_hysteresis"]
+           "friction_coefficient"]
 
 #: Resolution of the PNG figures (dots per inch).
 DPI = 110
@@ -379,21 +379,3 @@ def friction_coefficient(summary: dict | None, ds=None):
     if mu is None and ds is not None:
         mu = finite(ds.attrs.get("friction_coefficient"))
     return mu if mu is not None and mu > 0 else None
-
-
-def is_hysteresis(summary: dict | None) -> bool:
-    """True for a hysteresis run: ``kind`` says so, or the step rows carry a ``cycle``.
-
-    Parameters
-    ----------
-    summary : dict or None
-        The run summary (summary.json); None gives False.
-
-    Returns
-    -------
-    bool
-    """
-    s = summary or {}
-    if s.get("kind") == "hysteresis":
-        return True
-    return any(isinstance(r, dict) and "cycle" in r for r in s.get("steps") or [])

@@ -16,9 +16,10 @@ from pathlib import Path
 from ..interactions.registry import report_rows as law_report_rows
 from ..units import ZERO_FRACTION, format_quantity, format_value
 from .atomic import staged_source
-from .figures import _kl_reference_values, is_hysteresis, kl_reference, loop_reference
+from ..analytic.friction_loops import kl_reference, kl_reference_values, loop_reference
 from .atomic import atomic_write_text
-from .humid import is_humid_friction, per_rh, rh_groups, rh_label, rh_summary, zero_load_row
+from .humid import per_rh, rh_groups, rh_label, rh_summary, zero_load_row
+from .run_kind import run_view
 from .summary import jsonable
 
 __all__ = ["render_report", "write_report"]
@@ -362,7 +363,7 @@ def _hysteresis_section(s: dict, figures: dict) -> list:
                      + "</tr>")
         for t in table:
             k = _num(t.get("stiffness"))
-            md, vir = _kl_reference_values(t)
+            md, vir = kl_reference_values(t)
             md, vir = (md if math.isfinite(md) else None), (vir if math.isfinite(vir) else None)
             ratio = f"{k / md:.4f}" if k is not None and md else "n/a"
             fr = _num(t.get("force_ratio"))
@@ -503,7 +504,7 @@ def _k_at(table, point):
 def _humid_table(s: dict) -> tuple[list, list]:
     """(columns [(header, dimension)], rows [(is_dry, [values])]) of the humid friction table:
     the dry reference first, then one row per RH in run order."""
-    hyst = is_hysteresis(s)
+    hyst = run_view(s).hysteresis
     rhs = list(s.get("rh") or [])
     dry = s.get("dry") or {}
     groups = rh_groups(s)
@@ -583,10 +584,11 @@ def humid_friction_section(s: dict, figures: dict) -> tuple[list, dict]:
     (list of str, dict)
         The HTML parts and the figures left for the general list.
     """
-    if not is_humid_friction(s):
+    view = run_view(s)
+    if not view.humid_friction:
         return [], figures
     e = html.escape
-    hyst = is_hysteresis(s)
+    hyst = view.hysteresis
     rhs = list(s.get("rh") or [])
     parts = ["<h2>Humid friction</h2>"]
     what = "loop" if hyst else "ramp"
@@ -634,7 +636,8 @@ def friction_section(s: dict, figures: dict) -> tuple[list, dict]:
     hysteresis run has its own section; a humid run's values, lists per RH, are section
     ``humid_friction``'s).  Returns (HTML parts, the figures left to place)."""
     fric = _friction_rows(s)
-    if not fric or is_hysteresis(s) or is_humid_friction(s):
+    view = run_view(s)
+    if not fric or view.hysteresis or view.humid_friction:
         return [], figures
     e = html.escape
     parts = ["<h2>Friction</h2><table>"]
@@ -646,9 +649,10 @@ def friction_section(s: dict, figures: dict) -> tuple[list, dict]:
 def hysteresis_section(s: dict, figures: dict) -> tuple[list, dict]:
     """Report section ``hysteresis``: loop energies, static friction, lateral stiffness at A, B,
     C against Mindlin-Deresiewicz, with the loop figures.  Returns (HTML parts, the figures left)."""
-    if not is_hysteresis(s):
+    view = run_view(s)
+    if not view.hysteresis:
         return [], figures
-    if is_humid_friction(s):
+    if view.humid_friction:
         # the run-level values are lists per RH (section humid_friction): the detail of the last
         # RH, the one whose per-cycle maps fields.nc keeps and the hysteresis figures show
         s, _ = rh_summary(s, -1)
