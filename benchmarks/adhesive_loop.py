@@ -89,7 +89,7 @@ def main(argv=None) -> dict:
             return "tangential, final pass"
         return "tangential, predictor" if tol == max(tang_run, C.PREDICTOR_TOL) else "tangential, inexact pass"
 
-    from tribobem.runs.partial_slip import TANGENTIAL_TOLERANCE
+    from tribobem.runs.settings import TANGENTIAL_TOLERANCE
 
     sc = scenario(args.n, args.cycles, args.steps, args.amplitude, args.method)
     tol_run = 1e-10  # the scenario default [solver] tolerance

@@ -51,15 +51,13 @@ def scenario(n: int, rh: float, cycles: int, steps: int) -> dict:
 def loop_once(pb, interaction, window: bool = True):
     """One solver-level loop with the run's settings; returns (cpu s, wall s, HysteresisRun)."""
     from tribobem.errors import ConvergenceWarning
-    from tribobem.runs.common import solve_kw
-    from tribobem.runs.partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
+    from tribobem.runs.settings import SolverSettings
     from tribobem.solvers.hysteresis import hysteresis_loop
 
     sc = pb.scenario
-    kw = solve_kw(sc)
     path = sc.friction.path
-    solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
-                 "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE}
+    # the run's tangential and coupling tolerances; the loop's default normal solver (Polonsky-Keer)
+    solver_kw = {k: v for k, v in SolverSettings.from_scenario(sc).coupled_kw().items() if k != "normal_method"}
     c0, t0 = time.process_time(), time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
@@ -97,8 +95,8 @@ def main(argv=None) -> dict:
         args.n, args.cycles, args.steps = 96, 1, 16
 
     from tribobem.errors import ConvergenceWarning
-    from tribobem.runs.common import solve_kw
     from tribobem.runs.humid_friction import capillary_model
+    from tribobem.runs.settings import SolverSettings
     from tribobem.scenario.build import build_problem
     from tribobem.scenario.schema import parse_scenario
 
@@ -106,7 +104,7 @@ def main(argv=None) -> dict:
     c0 = time.process_time()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
-        model, f1, f2 = capillary_model(pb, args.rh, solve_kw(pb.scenario)["tol"])
+        model, f1, f2 = capillary_model(pb, args.rh, SolverSettings.from_scenario(pb.scenario).film_tolerance)
     film_cpu = time.process_time() - c0
     variants = {"dry": (pb.interaction, True), "humid": (model, True)}
     if not args.no_unwindowed:

@@ -42,7 +42,7 @@ def main(argv=None) -> dict:
     import tribobem as tb
     from tribobem.analytic.hertz import hertz
     from tribobem.geometry import sphere
-    from tribobem.runs.partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
+    from tribobem.runs.settings import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
     from tribobem.solvers import coupling as C
     from tribobem.solvers import slip_paths as S
 

@@ -57,8 +57,8 @@ def test_tangential_results_travel_with_the_selected_fields(monkeypatch):
         seen["tangential"] = kw.pop("tangential", None)
         return original(*args, **kw)
 
-    def with_tangential(pb, bar):
-        out = normal.run(pb, bar)
+    def with_tangential(pb, bar, settings=None):
+        out = normal.run(pb, bar, settings)
         out.tangential = [f"T{i}" for i in range(len(out.results))]
         return out
 

@@ -5,14 +5,17 @@ the scenario sections and keys it reads, its consistency rules.  The scenario sc
 list of kinds from :data:`KINDS` and asks the kind which sections it reads and whether a
 scenario is consistent; it has no per-kind branch.
 
-A runner is called as ``runner(pb, bar)`` with the built
-:class:`~tribobem.scenario.build.Problem` and a progress handler (``bar.phase(description,
-total)``, ``bar(done, total)``), and returns a :class:`~tribobem.runs.kind.RunOutput` (steps,
-states for fields.nc, run-level values, warnings).
+A runner is called as ``runner(pb, bar, settings=...)`` with the built
+:class:`~tribobem.scenario.build.Problem`, a progress handler (``bar.phase(description,
+total)``, ``bar(done, total)``) and the run's solver settings
+(:class:`~tribobem.runs.settings.SolverSettings`, built once by the caller; a runner called
+without them builds them from ``pb.scenario``), and returns a
+:class:`~tribobem.runs.kind.RunOutput` (steps, states for fields.nc, run-level values, warnings).
 
-A new kind is a new module here defining ``run(pb, bar)`` and ``KIND`` and ONE line in
-:data:`KINDS`.  Nothing in this package imports :mod:`tribobem.scenario` (the schema imports
-the registry).
+A new kind is a new module here defining ``run(pb, bar, settings=None)`` and ``KIND`` and ONE
+line in :data:`KINDS` (a kind whose steps go through the coupling loop, or whose path picks its
+own normal solver, is also named in :mod:`tribobem.runs.settings`).  Nothing in this package
+imports :mod:`tribobem.scenario` (the schema imports the registry).
 """
 
 from __future__ import annotations
@@ -26,7 +29,7 @@ from .kind import RunKind, RunOutput
 __all__ = ["KINDS", "RUNNERS", "RunKind", "RunOutput", "Runner", "get_runner", "get_kind", "available_kinds",
            "NotImplementedKindError"]
 
-#: ``runner(pb: Problem, bar) -> RunOutput``
+#: ``runner(pb: Problem, bar, settings: SolverSettings | None = None) -> RunOutput``
 Runner = Callable[..., RunOutput]
 
 
@@ -106,7 +109,7 @@ def get_runner(kind: str) -> Runner:
     Returns
     -------
     Runner
-        ``runner(pb, bar) -> RunOutput``.
+        ``runner(pb, bar, settings=None) -> RunOutput``.
 
     Raises
     ------

@@ -43,10 +43,13 @@ from ..errors import ConvergenceWarning
 from ..interactions.films import film_thickness
 from ..interactions.menisci import contribution_coefficient
 from ..solvers.capillary import solve_capillary
-from .common import approach_below_full_contact, normal_method, scenario_errors, solve_kw
+from .common import approach_below_full_contact, scenario_errors
 from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_elastic_body, require_humidity
+from .kind import CAPILLARY_COLUMNS
+from .settings import FILM_TOLERANCE_FLOOR, SolverSettings
 
-__all__ = ["run", "check", "KIND", "films_at", "capillary_options", "capillary_row", "step_maps", "STEP_FIELDS"]
+__all__ = ["run", "check", "KIND", "films_at", "capillary_options", "capillary_row", "step_maps", "step_fields",
+           "STEP_FIELDS"]
 
 #: fields.nc variables a capillary step adds: name -> (dtype, attributes).
 STEP_FIELDS = {
@@ -100,7 +103,9 @@ def films_at(pb, rh: float, tol: float = 1e-10, bar=None):
     rh : float
         Relative humidity (0..1).
     tol : float
-        Tolerance of the film levelling (floored at 1e-12, below which it would not converge).
+        Tolerance of the film levelling (floored at
+        :data:`~tribobem.runs.settings.FILM_TOLERANCE_FLOOR`, below which it would not converge;
+        a run passes its settings' ``film_tolerance``, already floored).
     bar : progress handler, optional
         Thin-film levelling: each wet body's integration is a phase of ``bar``
         (``bar.phase``, ``bar(done, total)``) advancing with the physical time reached, in
@@ -122,13 +127,13 @@ def films_at(pb, rh: float, tol: float = 1e-10, bar=None):
                 kw["time_progress"] = _film_progress(bar, rh, body)
         out.append(film_thickness(surface, pb.grid, iso, rh, hs.water, mode=hs.levelling,
                                   system=None if hs.levelling == "uniform" else hs.system,
-                                  disjoining=hs.disjoining, tol=max(tol, 1e-12), **kw))
+                                  disjoining=hs.disjoining, tol=max(tol, FILM_TOLERANCE_FLOOR), **kw))
     return out[0], out[1]
 
 
-def capillary_options(pb, rh: float) -> dict:
+def capillary_options(pb, rh: float, settings: SolverSettings | None = None) -> dict:
     """The keyword arguments of :func:`~tribobem.solvers.capillary.solve_capillary` at ``rh``
-    (all but the load, the films and the warm start).
+    (all but the load, the films, the warm start and the tolerances).
 
     Parameters
     ----------
@@ -136,6 +141,8 @@ def capillary_options(pb, rh: float) -> dict:
         The built scenario with ``[humidity]``.
     rh : float
         Relative humidity (0..1).
+    settings : SolverSettings, optional
+        The run's solver settings: its ``normal_method`` (default: built from ``pb.scenario``).
 
     Returns
     -------
@@ -158,7 +165,7 @@ def capillary_options(pb, rh: float) -> dict:
         "critical_distance": hs.critical_distance,
         "cutoff": hs.cutoff,
         "periodic": pb.grid.periodic,
-        "normal_method": normal_method(pb.scenario),
+        "normal_method": (settings or SolverSettings.from_scenario(pb.scenario)).normal_method,
     }
 
 
@@ -252,6 +259,24 @@ def step_maps(state, f1, f2) -> dict:
     return {k: np.asarray(v).astype(STEP_FIELDS[k][0]) for k, v in maps.items()}
 
 
+def step_fields(maps: dict) -> dict:
+    """:attr:`~tribobem.runs.kind.RunOutput.step_fields` of a run of RH steps: its per-RH maps of
+    :data:`STEP_FIELDS` with their attributes (the humid pull-off shares them, and takes them
+    from here rather than reading the table).
+
+    Parameters
+    ----------
+    maps : dict
+        Name -> list of maps, one per RH (:func:`step_maps`); a name missing gets none.
+
+    Returns
+    -------
+    dict
+        Name -> (list of maps, attributes), in the order of :data:`STEP_FIELDS`.
+    """
+    return {name: (maps.get(name, []), attrs) for name, (_dtype, attrs) in STEP_FIELDS.items()}
+
+
 def _film_notes(rh, f1, f2, film_time=None) -> list[str]:
     notes = []
     for i, f in ((1, f1), (2, f2)):
@@ -267,7 +292,7 @@ def _film_notes(rh, f1, f2, film_time=None) -> list[str]:
 
 
 @scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
-def run(pb, bar) -> RunOutput:
+def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
     """Run a ``capillary`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
     Returns its :class:`~tribobem.runs.kind.RunOutput`, with ``step_fields`` (per-RH maps
@@ -282,6 +307,9 @@ def run(pb, bar) -> RunOutput:
     bar : progress handler
         ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
         progress (the CLI's progress bar, or a no-op).
+    settings : SolverSettings, optional
+        The run's solver settings (:mod:`tribobem.runs.settings`; default: built from
+        ``pb.scenario``).
 
     Returns
     -------
@@ -289,8 +317,8 @@ def run(pb, bar) -> RunOutput:
     """
     sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
     approach_below_full_contact(pb)
-    kw = solve_kw(sc)
-    pb.info["normal_method"] = normal_method(sc)  # the solver of the islands' normal solves (summary "problem")
+    if settings is None:
+        settings = SolverSettings.from_scenario(sc)
     relief = float(np.ptp(pb.gap))
     n = len(hs.rh)
     # Thin-film levelling can dominate the run (minutes per film): each film is then a phase of
@@ -299,26 +327,25 @@ def run(pb, bar) -> RunOutput:
     if not thin:
         bar.phase("RH steps", n)
     rows, results, labels, notes = [], [], [], []
-    maps: dict[str, list] = {k: [] for k in STEP_FIELDS}
+    maps: dict[str, list] = {}
     prev = None
     for k, rh in enumerate(hs.rh):
         with warnings.catch_warnings():
             # Non-convergence is flagged per step (converged = false) and gathered below.
             warnings.simplefilter("ignore", ConvergenceWarning)
-            f1, f2 = films_at(pb, rh, kw["tol"], bar=bar if thin else None)
+            f1, f2 = films_at(pb, rh, settings.film_tolerance, bar=bar if thin else None)
             if thin:
                 bar.phase(f"RH {rh:g} ({k + 1} of {n}): contact with menisci", 1)
-            opts = capillary_options(pb, rh)
+            opts = capillary_options(pb, rh, settings)
             loadkw = {"normal_force": load.force} if load.force is not None else {"approach": load.approach}
             state = solve_capillary(pb.operator, pb.gap, **loadkw, film1=f1.thickness, film2=f2.thickness,
-                                    tol=kw["tol"], max_iterations=kw["max_iterations"], initial=prev,
-                                    grid=pb.grid, **opts)
+                                    initial=prev, grid=pb.grid, **settings.path_kw(), **opts)
         row = capillary_row(state, rh, f1, f2, opts, relief)
         rows.append(row)
         results.append(state.normal)
         labels.append(f"RH {rh:g}")
         for name, m in step_maps(state, f1, f2).items():
-            maps[name].append(m)
+            maps.setdefault(name, []).append(m)
         notes += _film_notes(rh, f1, f2, hs.film_time if thin else None)
         if pb.operator is None and math.isnan(row["normal_force"]) and not any("indeterminate" in m for m in notes):
             notes.append("both bodies rigid and touching: the contact reaction is indeterminate, so the normal, "
@@ -344,7 +371,7 @@ def run(pb, bar) -> RunOutput:
                      step_coords={"rh": ([r["rh"] for r in rows], {"units": "1", "long_name": "relative humidity"}),
                                   "capillary_pressure": ([r["capillary_pressure"] for r in rows],
                                                          {"units": "Pa", "long_name": "applied capillary pressure"})},
-                     step_fields={name: (maps[name], STEP_FIELDS[name][1]) for name in STEP_FIELDS})
+                     step_fields=step_fields(maps))
 
 
 def check(sc) -> None:
@@ -377,6 +404,7 @@ KIND = RunKind(
     name="capillary", run=run, check=check,
     summary="capillary adhesion from adsorbed water films and menisci at one load, RH by RH",
     figures=("capillary", "maps"), report_sections=("capillary",),
+    columns=CAPILLARY_COLUMNS,
     results={"peak_capillary_force": "force", "peak_capillary_rh": "dimensionless", **CAPILLARY_STEPS},
     uses={"load": ("force", "approach"), "humidity": ALL, "body1": ("film", "hamaker"),
           "body2": ("film", "hamaker"), "solver": ("method",)},

@@ -1,5 +1,6 @@
 """Helpers shared by the runners of several kinds (rows, curves, progress offsets, load checks,
-the translation of the solvers' error keys into scenario keys)."""
+the translation of the solvers' error keys into scenario keys).  The solver settings a runner
+passes to its solves are :class:`tribobem.runs.settings.SolverSettings`."""
 
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ from ..errors import InputError
 from ..solvers.normal import resolve_method
 from ..solvers.paths import LoadCurve, find_jumps
 
-__all__ = ["solve_kw", "normal_method", "step_row", "curve_from_rows", "offset_progress", "approach_below_full_contact",
+__all__ = ["normal_method", "step_row", "curve_from_rows", "offset_progress", "approach_below_full_contact",
            "SCENARIO_KEYS", "translate_error", "scenario_keys", "scenario_errors"]
 
 #: The solvers' error keys (``"<function>.<argument>"``: the library function and its own
@@ -126,7 +127,7 @@ def scenario_keys(keys: Mapping[str, str] = SCENARIO_KEYS):
 
 
 def scenario_errors(run):
-    """Decorate a kind's runner ``run(pb, bar)`` so that the solvers' errors reach the scenario
+    """Decorate a kind's runner ``run(pb, bar, settings=None)`` so that the solvers' errors reach the scenario
     user under scenario keys (:func:`scenario_keys`).
 
     Parameters
@@ -145,22 +146,6 @@ def scenario_errors(run):
             return run(*args, **kwargs)
 
     return runner
-
-
-def solve_kw(sc) -> dict:
-    """The solver keywords of a scenario's ``[solver]`` section.
-
-    Parameters
-    ----------
-    sc : Scenario
-        The validated scenario.
-
-    Returns
-    -------
-    dict
-        ``tol`` (relative) and ``max_iterations``, as the solvers take them.
-    """
-    return {"tol": sc.solver.tolerance, "max_iterations": sc.solver.max_iterations}
 
 
 def normal_method(sc) -> str:

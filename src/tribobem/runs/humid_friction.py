@@ -31,8 +31,8 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from ..solvers.capillary import CapillaryModel
 from .capillary import capillary_options, films_at
-from .common import solve_kw
 from .kind import RunOutput
+from .settings import SolverSettings
 
 __all__ = ["LIST_KEYS", "DRY_KEYS", "capillary_model", "meniscus_fields", "run_per_rh"]
 
@@ -53,7 +53,7 @@ MENISCUS_FIELDS = {
 }
 
 
-def capillary_model(pb, rh: float, tol: float):
+def capillary_model(pb, rh: float, tol: float, settings: SolverSettings | None = None):
     """The capillary model of ``rh`` on the built scenario, with the films it rests on.
 
     Parameters
@@ -63,14 +63,18 @@ def capillary_model(pb, rh: float, tol: float):
     rh : float
         Relative humidity (0..1).
     tol : float
-        Film levelling tolerance.
+        Film levelling tolerance (floored at
+        :data:`~tribobem.runs.settings.FILM_TOLERANCE_FLOOR`).
+    settings : SolverSettings, optional
+        The run's solver settings: the model's normal solver (default: built from
+        ``pb.scenario``).
 
     Returns
     -------
     (CapillaryModel, FilmResult, FilmResult)
     """
     f1, f2 = films_at(pb, rh, tol)
-    return CapillaryModel(f1.thickness, f2.thickness, capillary_options(pb, rh), pb.grid), f1, f2
+    return CapillaryModel(f1.thickness, f2.thickness, capillary_options(pb, rh, settings), pb.grid), f1, f2
 
 
 def meniscus_fields(states, model: CapillaryModel | None) -> dict:
@@ -118,7 +122,7 @@ def _same(a, b) -> bool:
         return False
 
 
-def run_per_rh(pb, bar, run_one, kind: str) -> RunOutput:
+def run_per_rh(pb, bar, run_one, kind: str, settings: SolverSettings | None = None) -> RunOutput:
     """Run ``run_one`` dry, then once per RH with the capillary model (module docstring).
 
     Parameters
@@ -128,11 +132,15 @@ def run_per_rh(pb, bar, run_one, kind: str) -> RunOutput:
     bar : progress handler
         ``bar.phase(description, total)`` and ``bar(done, total)``.
     run_one : callable
-        ``run_one(pb, bar, interaction, initial, label) -> (RunOutput, zero_state)``: one ramp or
-        loop with the stress law ``interaction`` (a plain law or a CapillaryModel), its first solve
-        warm-started from ``initial``; ``zero_state`` is its state at zero tangential load.
+        ``run_one(pb, bar, interaction, initial, label, settings) -> (RunOutput, zero_state)``:
+        one ramp or loop with the stress law ``interaction`` (a plain law or a CapillaryModel),
+        its first solve warm-started from ``initial``; ``zero_state`` is its state at zero
+        tangential load.
     kind : str
         ``"partial_slip"`` or ``"hysteresis"`` (its :data:`LIST_KEYS`).
+    settings : SolverSettings, optional
+        The run's solver settings, handed to every ``run_one`` (default: built from
+        ``pb.scenario``); the films are levelled at its ``film_tolerance``.
 
     Returns
     -------
@@ -141,9 +149,10 @@ def run_per_rh(pb, bar, run_one, kind: str) -> RunOutput:
         ``dry``.
     """
     hs = pb.humidity
-    tol = solve_kw(pb.scenario)["tol"]
+    if settings is None:
+        settings = SolverSettings.from_scenario(pb.scenario)
     list_keys = LIST_KEYS[kind]
-    dry, _ = run_one(pb, _Quiet(), pb.interaction, None, "dry")
+    dry, _ = run_one(pb, _Quiet(), pb.interaction, None, "dry", settings)
     rows, results, tangential, labels, indices, notes = [], [], [], [], [], []
     step_fields: dict = {}
     cycle_fields: dict = {}
@@ -152,8 +161,8 @@ def run_per_rh(pb, bar, run_one, kind: str) -> RunOutput:
     for rh in hs.rh:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
-            model, f1, f2 = capillary_model(pb, rh, tol)
-        out, warm = run_one(pb, bar, model, warm, f"RH {rh:g}")
+            model, f1, f2 = capillary_model(pb, rh, settings.film_tolerance, settings)
+        out, warm = run_one(pb, bar, model, warm, f"RH {rh:g}", settings)
         first = len(rows)
         for r in out.rows:
             row = {"rh": float(rh), **r, "film_thickness_1": float(f1.mean_thickness),

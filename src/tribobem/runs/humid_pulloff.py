@@ -36,9 +36,9 @@ import numpy as np
 
 from ..errors import ConvergenceWarning, InputError
 from ..solvers.capillary import solve_capillary
-from .capillary import STEP_FIELDS, capillary_options, capillary_row, films_at, step_maps
-from .common import normal_method, solve_kw
+from .capillary import capillary_options, capillary_row, films_at, step_fields, step_maps
 from .kind import RunOutput
+from .settings import SolverSettings
 
 __all__ = ["run", "humid_pull_off"]
 
@@ -61,7 +61,7 @@ def _interaction_range(pb, opts: dict, f1, f2) -> float:
 
 
 def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int, refine: int, tol: float,
-                   max_iterations: int, max_steps: int = 400):
+                   max_iterations: int, max_steps: int = 400, settings: SolverSettings | None = None):
     """The pull-off at one RH (module docstring, steps 2-4) on films ``f1``, ``f2``.
 
     Parameters
@@ -85,6 +85,9 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
     max_steps : int
         Most unloading steps beyond zero approach before giving up on separation (a note then
         says so).
+    settings : SolverSettings, optional
+        The run's solver settings: the normal solver of the islands' solves (default: built
+        from ``pb.scenario``).
 
     Returns
     -------
@@ -93,7 +96,7 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
         (lists: approach, force, capillary_force, contact_area, wetted_area, converged, sorted
         from the start outward), ``force``, ``approach``, ``opts`` and ``notes``.
     """
-    opts = capillary_options(pb, rh)
+    opts = capillary_options(pb, rh, settings)
     common = dict(film1=f1.thickness, film2=f2.thickness, tol=tol, max_iterations=max_iterations, **opts)
     notes: list[str] = []
     target = 0.0 if preload is None else float(preload)
@@ -173,7 +176,7 @@ def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int
             "all_converged": bad == 0}
 
 
-def run(pb, bar) -> RunOutput:
+def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
     """Run a ``pulloff`` scenario with ``[humidity]`` on its built Problem (module docstring).
 
     Returns its :class:`~tribobem.runs.kind.RunOutput` (with ``step_fields``, ``step_coords`` and
@@ -187,25 +190,29 @@ def run(pb, bar) -> RunOutput:
     bar : progress handler
         ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
         progress (the CLI's progress bar, or a no-op).
+    settings : SolverSettings, optional
+        The run's solver settings (:mod:`tribobem.runs.settings`; default: built from
+        ``pb.scenario``).
 
     Returns
     -------
     RunOutput
     """
     sc, load, hs = pb.scenario, pb.scenario.load, pb.humidity
-    kw = solve_kw(sc)
-    pb.info["normal_method"] = normal_method(sc)  # the solver of the islands' normal solves (summary "problem")
+    if settings is None:
+        settings = SolverSettings.from_scenario(sc)
+    kw = settings.path_kw()
     relief = float(np.ptp(pb.gap))
     n = len(hs.rh)
     bar.phase("humid pull-off (RH)", n)
     rows, results, labels, notes, curves = [], [], [], [], []
-    maps: dict[str, list] = {k: [] for k in STEP_FIELDS}
+    maps: dict[str, list] = {}
     for k, rh in enumerate(hs.rh):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
-            f1, f2 = films_at(pb, rh, kw["tol"])
+            f1, f2 = films_at(pb, rh, settings.film_tolerance)
             po = humid_pull_off(pb, rh, f1, f2, preload=load.preload, n_steps=load.steps, refine=load.refine,
-                                tol=kw["tol"], max_iterations=kw["max_iterations"])
+                                settings=settings, **kw)
         state = po["state"]
         row = capillary_row(state, rh, f1, f2, po["opts"], relief)
         row.update({"branch": "pull-off", "pull_off_force": po["force"], "pull_off_approach": po["approach"],
@@ -215,7 +222,7 @@ def run(pb, bar) -> RunOutput:
         results.append(state.normal)
         labels.append(f"pull-off RH {rh:g}")
         for name, m in step_maps(state, f1, f2).items():
-            maps[name].append(m)
+            maps.setdefault(name, []).append(m)
         curves.append(po["curve"])
         notes += po["notes"]
         notes += [f"RH {rh:g}, film on body{i}: {f.message}" for i, f in ((1, f1), (2, f2)) if not f.converged]
@@ -228,5 +235,5 @@ def run(pb, bar) -> RunOutput:
     ipk = int(np.argmin(forces)) if forces else 0
     return RunOutput(rows=rows, results=results, labels=labels, indices=list(range(n)), run=run_level,
                      warnings=notes, representative=ipk,
-                     step_fields={name: (maps[name], STEP_FIELDS[name][1]) for name in STEP_FIELDS},
+                     step_fields=step_fields(maps),
                      step_coords={"rh": ([r["rh"] for r in rows], {"units": "1", "long_name": "relative humidity"})})

@@ -25,11 +25,12 @@ from ..analytic.mindlin import mindlin_compliance_k
 from ..analytic.tangential_axisymmetric import sphere_partial_slip
 from ..errors import InputError
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
-from .common import normal_method, scenario_errors, solve_kw
+from .common import scenario_errors
 from .humid_friction import meniscus_fields, run_per_rh
 from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,
                    require_elastic_body, require_friction, require_humidity)
-from .partial_slip import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
+from .kind import TANGENTIAL_COLUMNS
+from .settings import SolverSettings
 
 __all__ = ["run", "check", "KIND", "lateral_stiffness_fit", "STIFFNESS_POINTS"]
 
@@ -120,7 +121,7 @@ def _stiffness_table(rows, run, mu, f0p, reference, e=(1.0, 0.0)):
 
 
 @scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
-def run(pb, bar) -> RunOutput:
+def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
     """Run a ``hysteresis`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
     With ``[humidity]``: one loop per RH under the capillary model, after a dry reference
@@ -134,6 +135,9 @@ def run(pb, bar) -> RunOutput:
     bar : progress handler
         ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
         progress (the CLI's progress bar, or a no-op).
+    settings : SolverSettings, optional
+        The run's solver settings (:mod:`tribobem.runs.settings`; default: built from
+        ``pb.scenario``).
 
     Returns
     -------
@@ -141,25 +145,23 @@ def run(pb, bar) -> RunOutput:
         One step per point of the cyclic path, with the loop's run-level values (energies in J,
         lateral stiffness in N/m) and the states for fields.nc.
     """
+    if settings is None:
+        settings = SolverSettings.from_scenario(pb.scenario)
     if pb.humidity is not None:
-        return run_per_rh(pb, bar, _run_one, "hysteresis")
-    return _run_one(pb, bar, pb.interaction, None, "")[0]
+        return run_per_rh(pb, bar, _run_one, "hysteresis", settings)
+    return _run_one(pb, bar, pb.interaction, None, "", settings)[0]
 
 
-def _run_one(pb, bar, interaction, initial, label: str):
-    """One loop with the stress law ``interaction``; returns the RunOutput and its start (F_x =
-    0, the next RH's warm start)."""
+def _run_one(pb, bar, interaction, initial, label: str, settings: SolverSettings):
+    """One loop with the stress law ``interaction`` and the run's ``settings``; returns the
+    RunOutput and its start (F_x = 0, the next RH's warm start)."""
     sc = pb.scenario
     fr, load = sc.friction, sc.load
     path = fr.path
     mu = float(fr.coefficient)
-    kw = solve_kw(sc)
     model = interaction if getattr(interaction, "self_consistent", False) else None
 
-    solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
-                 "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE,
-                 "normal_method": normal_method(sc)}
-    pb.info["normal_method"] = solver_kw["normal_method"]  # what method = "auto" stood for (summary "problem")
+    solver_kw = settings.coupled_kw()
     n_steps = max(path.steps // 4, 4) + path.cycles * 2 * (path.steps // 2)
     bar.phase(f"{label}: hysteresis steps" if label else "hysteresis steps", n_steps)
     res = hysteresis_loop(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, control=path.control,
@@ -310,6 +312,7 @@ KIND = RunKind(
     name="hysteresis", run=run, check=check,
     summary="friction hysteresis: tangential force or displacement cycles at one normal force",
     figures=("hysteresis", "friction", "humid_friction", "maps"), report_sections=("humid_friction", "hysteresis"),
+    columns=TANGENTIAL_COLUMNS, humid_columns=("rh",) + TANGENTIAL_COLUMNS,
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
              "presliding_displacement": "length", **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
     uses={"load": ("force",), "friction": ("coefficient", "direction", "slip", "path"),

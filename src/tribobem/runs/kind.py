@@ -22,7 +22,7 @@ from typing import Any, Callable, Mapping, Optional, Union
 from ..errors import InputError
 
 __all__ = ["ALL", "SECTIONS", "BODY_KEYS", "COMMON", "COMMON_RESULTS", "TANGENTIAL_STEPS", "CAPILLARY_STEPS",
-           "RunKind", "RunOutput", "fail"]
+           "NORMAL_COLUMNS", "TANGENTIAL_COLUMNS", "CAPILLARY_COLUMNS", "RunKind", "RunOutput", "fail"]
 
 #: A section whose every key the kind reads.
 ALL = "*"
@@ -118,6 +118,18 @@ CAPILLARY_STEPS = {
 }
 
 
+#: The CLI step table's columns (summary.json step keys, in order, after ``#`` and ``branch``)
+#: of the normal-load kinds: force, approach, areas, peak pressure.
+NORMAL_COLUMNS = ("normal_force", "approach", "contact_area", "adhesive_area", "max_pressure")
+#: ... of the tangential kinds: the friction columns replace the approach and the cohesive area.
+TANGENTIAL_COLUMNS = ("normal_force", "tangential_force_x", "displacement_x", "contact_area", "stick_ratio",
+                      "max_pressure")
+#: ... of the RH steps (kind capillary, humid pull-off): one row per RH with the adhesive force
+#: components and the meniscus.
+CAPILLARY_COLUMNS = ("rh", "normal_force", "capillary_force", "solid_solid_force", "water_solid_force",
+                     "contact_area", "wetted_area", "island_count")
+
+
 def fail(key: str, message: str):
     """Raise the :class:`~tribobem.errors.InputError` of a kind's rule on scenario key ``key``
     (dotted from the top, e.g. ``"load.force"``).
@@ -150,7 +162,8 @@ class RunKind:
     name : str
         The scenario's ``kind``.
     run : callable
-        ``run(pb, bar) -> RunOutput``: the runner (:mod:`tribobem.runs`).
+        ``run(pb, bar, settings=None) -> RunOutput``: the runner (:mod:`tribobem.runs`;
+        ``settings``: the run's :class:`~tribobem.runs.settings.SolverSettings`).
     uses : mapping
         Section -> the keys of that section the kind reads (an iterable of names) or
         :data:`ALL`, on top of :data:`COMMON`.  A section missing from both is not read at all.
@@ -169,6 +182,13 @@ class RunKind:
     results : mapping
         The summary.json keys it produces beyond :data:`COMMON_RESULTS` (run-level values and
         its own step keys) -> dimension: what a scenario's ``expected`` table may state.
+    columns : tuple of str
+        The step keys of the CLI's step table (``tribobem run``), in order
+        (:data:`NORMAL_COLUMNS`, :data:`TANGENTIAL_COLUMNS`, :data:`CAPILLARY_COLUMNS`); every
+        step row of the kind has them (None where a step has no value).
+    humid_columns : tuple of str, optional
+        The step table's columns when the run uses ``[humidity]`` (its steps are RH steps);
+        None: :attr:`columns` either way.
     """
 
     name: str
@@ -180,6 +200,23 @@ class RunKind:
     figures: tuple = ("maps",)
     report_sections: tuple = ()
     results: Mapping[str, str] = field(default_factory=dict)
+    columns: tuple = NORMAL_COLUMNS
+    humid_columns: Optional[tuple] = None
+
+    def step_columns(self, humid: bool = False) -> tuple:
+        """The CLI step table's columns (step keys) of a run of this kind.
+
+        Parameters
+        ----------
+        humid : bool
+            Whether the run used ``[humidity]``.
+
+        Returns
+        -------
+        tuple of str
+            :attr:`humid_columns` for a humid run when declared, else :attr:`columns`.
+        """
+        return self.humid_columns if humid and self.humid_columns is not None else self.columns
 
     def result_keys(self) -> dict[str, str]:
         """Every summary.json key (run level or step) this kind produces -> its dimension."""

@@ -14,14 +14,16 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from ..solvers.normal import solve_normal
 from ..solvers.paths import approach_curve, force_curve
-from .common import approach_below_full_contact, normal_method, scenario_errors, solve_kw, step_row
+from .common import approach_below_full_contact, scenario_errors, step_row
 from .kind import RunKind, RunOutput, fail, positive_normal_load, require_elastic_body
+from .kind import NORMAL_COLUMNS
+from .settings import SolverSettings
 
 __all__ = ["run", "check", "KIND"]
 
 
 @scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
-def run(pb, bar) -> RunOutput:
+def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
     """Run a ``normal`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
     Returns its :class:`~tribobem.runs.kind.RunOutput`.
@@ -34,6 +36,9 @@ def run(pb, bar) -> RunOutput:
     bar : progress handler
         ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
         progress (the CLI's progress bar, or a no-op).
+    settings : SolverSettings, optional
+        The run's solver settings (:mod:`tribobem.runs.settings`; default: built from
+        ``pb.scenario``).
 
     Returns
     -------
@@ -41,8 +46,9 @@ def run(pb, bar) -> RunOutput:
         One step per load (and per unloading load), with the solved states for fields.nc.
     """
     sc, load = pb.scenario, pb.scenario.load
-    kw = dict(solve_kw(sc), method=normal_method(sc))
-    pb.info["normal_method"] = kw["method"]  # what [solver] method = "auto" stood for (summary "problem")
+    if settings is None:
+        settings = SolverSettings.from_scenario(sc)
+    kw = settings.normal_kw()
     inter = pb.interaction
     approach_below_full_contact(pb)
     run_level: dict = {}
@@ -115,6 +121,7 @@ KIND = RunKind(
     name="normal", run=run, check=check,
     summary="normal contact at one load or along a list of loads (with Dugdale adhesion if given)",
     figures=("load_curve", "maps"),
+    columns=NORMAL_COLUMNS,
     results={"pull_off_force": "force", "pull_off_approach": "length", "hysteresis_energy": "energy"},
     uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",)},
 )

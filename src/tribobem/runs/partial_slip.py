@@ -22,21 +22,15 @@ import math
 from ..errors import InputError
 from ..units import format_quantity
 from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
-from .common import normal_method, scenario_errors, solve_kw
+from .common import scenario_errors
 from .humid_friction import meniscus_fields, run_per_rh
 from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,
                    require_elastic_body, require_friction, require_humidity)
+from .kind import TANGENTIAL_COLUMNS
+from .settings import SolverSettings
 
 __all__ = ["run", "check", "KIND"]
 
-#: Bisection of the gross-slip onset: bracket width relative to mu F0+ (file-contract / issue).
-ONSET_TOLERANCE = 1e-3
-#: Tangential solver tolerance (traction change and complementarity residual) and coupling-loop
-#: tolerance (relative pressure change).  Measured on the Paper D ramp (96^2): the onset ratio and
-#: the pre-sliding displacement agree to 5 and 6 digits with 1e-8 / 1e-7, in 0.6x the time; on
-#: Cattaneo-Mindlin (256^2) the stick area is exact (vs a 1e-11 reference) from 1e-6 on.
-TANGENTIAL_TOLERANCE = 1e-7
-COUPLING_TOLERANCE = 1e-6
 #: ``tangential_forces = "auto"``: steps of the ramp (zero included) and its top in units of
 #: mu F0+ (head room over the friction bound; the design chain's defaults).
 AUTO_STEPS = 13
@@ -54,7 +48,7 @@ def _row(res, branch: str, mu: float, e) -> dict:
 
 
 @scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
-def run(pb, bar) -> RunOutput:
+def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
     """Run a ``partial_slip`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
     With ``[humidity]``: one ramp per RH under the capillary model, after a dry reference
@@ -68,6 +62,9 @@ def run(pb, bar) -> RunOutput:
     bar : progress handler
         ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
         progress (the CLI's progress bar, or a no-op).
+    settings : SolverSettings, optional
+        The run's solver settings (:mod:`tribobem.runs.settings`; default: built from
+        ``pb.scenario``).
 
     Returns
     -------
@@ -75,22 +72,22 @@ def run(pb, bar) -> RunOutput:
         One step per solved tangential (or normal-path) value, with the coupled normal and
         tangential states for fields.nc.
     """
+    if settings is None:
+        settings = SolverSettings.from_scenario(pb.scenario)
     if pb.humidity is not None:
-        return run_per_rh(pb, bar, _run_one, "partial_slip")
-    return _run_one(pb, bar, pb.interaction, None, "")[0]
+        return run_per_rh(pb, bar, _run_one, "partial_slip", settings)
+    return _run_one(pb, bar, pb.interaction, None, "", settings)[0]
 
 
-def _run_one(pb, bar, interaction, initial, label: str):
-    """One ramp (or normal-load path) with the stress law ``interaction``; returns the
-    RunOutput and the state at zero tangential force (the next RH's warm start)."""
+def _run_one(pb, bar, interaction, initial, label: str, settings: SolverSettings):
+    """One ramp (or normal-load path) with the stress law ``interaction`` and the run's
+    ``settings``; returns the RunOutput and the state at zero tangential force (the next RH's
+    warm start)."""
     sc = pb.scenario
     fr, load = sc.friction, sc.load
     mu = float(fr.coefficient)
-    kw = solve_kw(sc)
-    solver_kw = {"tol": kw["tol"], "max_iterations": kw["max_iterations"],
-                 "tangential_tol": max(kw["tol"], TANGENTIAL_TOLERANCE), "coupling_tol": COUPLING_TOLERANCE,
-                 "normal_method": normal_method(sc)}
-    pb.info["normal_method"] = solver_kw["normal_method"]  # what method = "auto" stood for (summary "problem")
+    solver_kw = settings.coupled_kw()
+    onset_tol = settings.onset_tolerance
     model = interaction if getattr(interaction, "self_consistent", False) else None
     theta = math.radians(fr.direction)
     e = (math.cos(theta), math.sin(theta))
@@ -117,7 +114,7 @@ def _run_one(pb, bar, interaction, initial, label: str):
         bar.phase(f"{prefix}state at zero tangential force", 1)
         zero = tangential_ramp(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, forces=[0.0],
                                direction=fr.direction, interaction=interaction, slip=fr.slip,
-                               refine_tol=ONSET_TOLERANCE, progress=bar, initial=initial, **solver_kw)
+                               refine_tol=onset_tol, progress=bar, initial=initial, **solver_kw)
         if zero.zero_state is None:
             raise InputError("friction.tangential_forces", f"no equilibrium at zero tangential force: {zero.message}")
         top = AUTO_FACTOR * mu * zero.zero_state.normal.repulsive_force
@@ -128,7 +125,7 @@ def _run_one(pb, bar, interaction, initial, label: str):
     bar.phase(f"{prefix}tangential steps", n)
     ramp = tangential_ramp(pb.operator, pb.gap, normal_force=load.force, friction_coefficient=mu, forces=forces,
                            displacements=displacements, direction=fr.direction, interaction=interaction,
-                           slip=fr.slip, refine_tol=ONSET_TOLERANCE, progress=bar, initial=initial, **solver_kw)
+                           slip=fr.slip, refine_tol=onset_tol, progress=bar, initial=initial, **solver_kw)
     steps = list(ramp.steps)
     rows = [_row(r, "ramp", mu, e) for r in steps]
     run_level["gross_slip"] = bool(ramp.gross_slip)
@@ -241,6 +238,7 @@ KIND = RunKind(
     name="partial_slip", run=run, check=check,
     summary="partial slip along a tangential ramp or a normal-load path, to the gross-slip onset",
     figures=("load_curve", "friction", "humid_friction", "maps"), report_sections=("friction", "humid_friction"),
+    columns=TANGENTIAL_COLUMNS, humid_columns=("rh",) + TANGENTIAL_COLUMNS,
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
              "presliding_displacement": "length", "max_tangential_force": "force",
              "zero_force_stick_ratio": "dimensionless", "gross_slip_force_estimate": "force",

@@ -19,10 +19,12 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from ..output.checks import cohesive_cells
 from ..solvers.paths import approach_curve, pull_off
-from .common import curve_from_rows, offset_progress, scenario_errors, solve_kw
+from .common import curve_from_rows, offset_progress, scenario_errors
 from .humid_pulloff import run as humid_run
 from .kind import (ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, refuse_normcg, require_elastic_body,
                    require_humidity)
+from .kind import CAPILLARY_COLUMNS, NORMAL_COLUMNS
+from .settings import SolverSettings
 
 __all__ = ["run", "check", "KIND"]
 
@@ -31,7 +33,7 @@ ZERO_LOAD = "zero external load (adhesive equilibrium at F = 0)"
 
 
 @scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
-def run(pb, bar) -> RunOutput:
+def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
     """Run a ``pulloff`` scenario on its built :class:`~tribobem.scenario.build.Problem`.
 
     Returns its :class:`~tribobem.runs.kind.RunOutput`.
@@ -44,6 +46,9 @@ def run(pb, bar) -> RunOutput:
     bar : progress handler
         ``bar.phase(description, total)`` starts a phase, ``bar(done, total)`` reports its
         progress (the CLI's progress bar, or a no-op).
+    settings : SolverSettings, optional
+        The run's solver settings (:mod:`tribobem.runs.settings`; default: built from
+        ``pb.scenario``).
 
     Returns
     -------
@@ -51,11 +56,12 @@ def run(pb, bar) -> RunOutput:
         The steps of the loading and unloading path, with the pull-off force (N) and approach (m)
         as run-level values.
     """
+    if settings is None:
+        settings = SolverSettings.from_scenario(pb.scenario)
     if getattr(pb, "humidity", None) is not None:  # [humidity]: one pull-off per RH (runs.humid_pulloff)
-
-        return humid_run(pb, bar)
-    sc, load = pb.scenario, pb.scenario.load
-    kw = solve_kw(sc)
+        return humid_run(pb, bar, settings)
+    load = pb.scenario.load
+    kw = settings.path_kw()  # the pull-off path picks its normal solver itself (runs.settings.OWN_METHOD_KINDS)
     inter = pb.interaction
     n_load = max(load.steps // 2, 4) if load.loading else 0
     total = load.steps + load.refine + 1 + n_load
@@ -147,6 +153,7 @@ KIND = RunKind(
     name="pulloff", run=run, check=check,
     summary="the pull-off force: unloading from a preload (Dugdale adhesion, or capillary with [humidity])",
     figures=("load_curve", "capillary", "maps"), report_sections=("capillary",),
+    columns=NORMAL_COLUMNS, humid_columns=CAPILLARY_COLUMNS,
     results={"pull_off_force": "force", "pull_off_approach": "length", "preload": "force",
              "hysteresis_energy": "energy", **CAPILLARY_STEPS},
     uses={"load": _DRY_LOAD, "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker"),

@@ -23,6 +23,7 @@ import numpy as np
 from ..errors import ConvergenceWarning, InputError, result_warning_category
 from ..runs import KINDS as RUN_KINDS
 from ..runs import NotImplementedKindError, get_runner
+from ..runs.settings import SolverSettings
 from .build import Problem, build_problem
 from .schema import Scenario, parse_scenario
 from ..output import write_outputs
@@ -286,10 +287,13 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     except NotImplementedKindError as exc:
         raise NotImplementedKindError(exc.field, f"{exc.reason}; the scenario itself is valid") from None
     pb = build_problem(sc, base)
+    # The effective solver settings, once: every solve of the run takes them, summary.json
+    # records them (runs/settings.py).
+    settings = SolverSettings.from_scenario(sc)
     t_build = time.perf_counter()
 
     with _progress_handler(progress, quiet) as bar:
-        out = runner(pb, _PauseHook(bar) if os.environ.get("TRIBOBEM_TEST_PAUSE") else bar)
+        out = runner(pb, _PauseHook(bar) if os.environ.get("TRIBOBEM_TEST_PAUSE") else bar, settings=settings)
         bar.finish()
     t_solve = time.perf_counter()
 
@@ -308,8 +312,9 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
     warns += result_warnings(out.results, periodic=pb.grid.periodic, interaction=pb.interaction,
                              radius=pb.info.get("radius"), tangential=out.tangential,
                              files=pb.info.get("files"), gross_slip=out.run.get("gross_slip"),
-                             effective_modulus=pb.info.get("effective_modulus"), grid_band=band_defined)
-    edge_band = (cohesive_edge_band(out.results, pb.interaction, pb.info.get("effective_modulus"))
+                             effective_modulus=pb.info.get("effective_modulus"), grid_band=band_defined,
+                             pair=pb.pair)
+    edge_band = (cohesive_edge_band(out.results, pb.interaction, pb.info.get("effective_modulus"), pair=pb.pair)
                  if band_defined else None)
     # The same lines as Python warnings, one category per check (errors.RESULT_WARNINGS), so that
     # a script sees them without reading the summary.
@@ -335,7 +340,10 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         "steps": rows,
         **out.run,
         "jumps": [dict(j) for j in curve.jumps] if curve is not None else [],
-        "problem": pb.info,
+        # what [solver] method = "auto" stood for, where the run's solves take a method (also
+        # under "solver"; kept here, where summaries always had it)
+        "problem": {**pb.info, **({"normal_method": settings.normal_method} if settings.normal_method is not None else {})},
+        "solver": settings.summary(),
         **({"cohesive_edge": edge_band} if edge_band is not None else {}),
         "warnings": warns,
         "created": _dt.datetime.now().isoformat(timespec="seconds"),

@@ -747,15 +747,15 @@ class DugdaleAdhesionSpec(AdhesionSpec):
     (:class:`~tribobem.interactions.dugdale.DugdaleAdhesion`), a tension sigma0 = 16 dgamma /
     (9 sqrt3 z0) where the gap is below h0 = dgamma / sigma0.
 
-    ================  ======  ========  ================================================
-    key               unit    default   meaning
-    ================  ======  ========  ================================================
+    ================  ======  =========  ================================================
+    key               unit    default    meaning
+    ================  ======  =========  ================================================
     model             -       "dugdale"  the Dugdale law (the default when
-                                        ``work_of_adhesion`` is given)
-    work_of_adhesion  J/m^2   required  work of adhesion dgamma, > 0
-    z0                m       required  equilibrium separation of the Lennard-Jones
-                                        potential, > 0 (typically 0.2-0.4 nm)
-    ================  ======  ========  ================================================
+                                         ``work_of_adhesion`` is given)
+    work_of_adhesion  J/m^2   required   work of adhesion dgamma, > 0
+    z0                m       required   equilibrium separation of the Lennard-Jones
+                                         potential, > 0 (typically 0.2-0.4 nm)
+    ================  ======  =========  ================================================
     """
 
     model: Literal["dugdale"] = "dugdale"

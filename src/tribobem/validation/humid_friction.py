@@ -32,7 +32,7 @@ Cases
     rows therefore run at converged settings (normal 1e-12, tangential and coupling 1e-10:
     measured 5e-12).  A second group runs the user's path (``run_scenario``: the dry reference
     ``summary["dry"]`` against RH 0.2) at the kinds' settings, with the coupling tolerance
-    :data:`~tribobem.runs.partial_slip.COUPLING_TOLERANCE` (1e-6, the relative pressure error at
+    :data:`~tribobem.runs.settings.COUPLING_TOLERANCE` (1e-6, the relative pressure error at
     which a coupled step is accepted) as the bar.
 
 ``humid_uncoupled_onset``
@@ -117,7 +117,7 @@ from ..analytic.capillary import sphere_flat_capillary
 from ..elasticity.tangential import tangential_operator
 from ..errors import ConvergenceWarning
 from ..runs.humid_friction import capillary_model
-from ..runs.partial_slip import COUPLING_TOLERANCE, ONSET_TOLERANCE, TANGENTIAL_TOLERANCE
+from ..runs.settings import COUPLING_TOLERANCE, ONSET_TOLERANCE, TANGENTIAL_TOLERANCE
 from ..scenario.build import build_problem
 from ..scenario.run import load_scenario, run_scenario
 from ..solvers.coupling import solve_coupled
