@@ -60,20 +60,9 @@ def loop_rows(summary: dict) -> list[dict]:
 
 def _shear_moduli(summary: dict):
     """(1/G, nu) per body from the scenario echo; 1/G = 0 for a rigid body; None when unknown."""
-    inp = (summary or {}).get("inputs") or {}
-    out = []
-    for name in ("body1", "body2"):
-        b = inp.get(name)
-        if not isinstance(b, dict):
-            return None
-        if b.get("rigid"):
-            out.append((0.0, 0.5))
-            continue
-        E, nu = _num(b.get("E")), _num(b.get("nu"))
-        if E is None or nu is None or E <= 0:
-            return None
-        out.append((2.0 * (1.0 + nu) / E, nu))
-    return out
+    from .tangential_axisymmetric import body_compliances
+
+    return body_compliances((summary or {}).get("inputs") or {})
 
 
 def _smooth(summary: dict) -> bool:

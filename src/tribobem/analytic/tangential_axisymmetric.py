@@ -76,7 +76,7 @@ from ..errors import InputError
 from .punch import rounded_punch
 
 __all__ = ["AxisymmetricPartialSlip", "sphere_partial_slip", "rounded_punch_partial_slip",
-           "flat_punch_partial_slip", "reference_geometry", "lateral_reference"]
+           "flat_punch_partial_slip", "reference_geometry", "lateral_reference", "body_compliances"]
 
 _TOL = 1e-12     # relative slack on |Q| <= mu P and |Q| <= Q*
 
@@ -443,6 +443,28 @@ def _body_elastic(body: dict, name: str):
     return E, nu
 
 
+def _compliances(el):
+    """(1/G (1/Pa), nu) of each (E, nu) of :func:`_body_elastic`; 1/G = 0 for a rigid body."""
+    return [(0.0 if math.isinf(E) else 2.0 * (1.0 + nu) / E, nu) for E, nu in el]
+
+
+def body_compliances(inputs: dict):
+    """(1/G, nu) of body1 and body2 of a scenario echo (1/G in 1/Pa, 0 for a rigid body).
+
+    Parameters
+    ----------
+    inputs : dict
+        The scenario echo of a summary (``summary["inputs"]``, SI numbers).
+
+    Returns
+    -------
+    list of (float, float) or None
+        None when a body's modulus or Poisson ratio is not readable.
+    """
+    el = [_body_elastic((inputs or {}).get(n) or {}, n) for n in ("body1", "body2")]
+    return None if None in el else _compliances(el)
+
+
 def reference_geometry(inputs: dict) -> tuple[str | None, dict, str]:
     """Which analytic tangential reference the bodies' shapes admit.
 
@@ -524,7 +546,7 @@ def lateral_reference(inputs: dict, force: float, mu: float):
         return None, "no analytic reference: moduli, normal force or friction coefficient unknown"
     (E1, n1), (E2, n2) = el
     k = mindlin_compliance_k(E1, n1, E2, n2)
-    inv = [0.0 if math.isinf(E) else 2.0 * (1.0 + nu) / E for E, nu in el]  # 1/G
+    inv = [c for c, _ in _compliances(el)]  # 1/G
     beta = (1.0 - 2.0 * n1) * inv[0] - (1.0 - 2.0 * n2) * inv[1]
     if abs(beta) > 1e-6 * k:
         return None, ("no analytic reference: the dissimilar bodies couple the normal and tangential "
