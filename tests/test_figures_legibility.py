@@ -360,3 +360,28 @@ def test_spread_labels_separates_a_cluster():
         assert frame.y0 - 0.5 <= boxes[i].y0 and boxes[i].y1 <= frame.y1 + 0.5
         for j in range(i):
             assert not _overlap(boxes[i], boxes[j]), (names[i].get_text(), names[j].get_text())
+
+
+def test_stickslip_title_at_zero_tangential_force_prints_zero(monkeypatch, tmp_path):
+    """The first state of an automatic ramp is solved at F_x = 0: its round-off (1e-22 N, with a
+    y component of the same size) printed "F_x = -9.54e-05 aN" and "|F_t|/(mu F0+)"."""
+    import warnings
+
+    from tribobem.errors import ResultWarning
+    from tribobem.scenario import run_scenario
+
+    sc = {"kind": "partial_slip", "grid": {"n": 24, "size": "0.32 um"}, "body1": {"E": "130 GPa", "nu": 0.3},
+          "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "10 um"}}, "load": {"force": "10 uN"},
+          "friction": {"coefficient": 0.2, "tangential_forces": ["0 uN", "1 uN"]},
+          "output": {"figures": False, "report": False}}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ResultWarning)
+        res = run_scenario(sc, progress=False)
+    ds = res.fields.copy(deep=True)
+    # the round-off of the example's step 0 (64^2: F_x = -9.54e-23 N), with a y part of its size
+    ds["tangential_force_x"].values[0] = -9.54e-23
+    ds["tangential_force_y"].values[0] = 3.1e-23
+    got = _capture(monkeypatch)
+    figures.stickslip_figure(ds, 0, tmp_path / "s.png", mu=0.2)
+    title = got[-1].axes[0].get_title()
+    assert "$F_x$ = 0 N" in title and r"$F_x/(\mu F_0^+)$ = 0.000" in title and "|F_t|" not in title

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...units import display_unit, format_value
+from ...units import ZERO_FRACTION, display_unit, format_value
 from ..plotting import map_extent, new_figure, save_png
 from ..plotting import finite as _num
 from ..plotting import friction_coefficient as _friction_coefficient
@@ -267,13 +267,18 @@ def _stickslip_axes(ax, ds, step: int, *, mu=None, qmax=None, window=None, lette
     fn = float(ds["normal_force"].values[step])
     ratio = n_comp and float(np.count_nonzero(stick)) / n_comp
     f0 = _repulsive_force(ds, step)
+    # round-off of a state solved at zero tangential force (1e-22 N) prints as 0, and is no
+    # direction either (a y component of noise made the title read |F_t|)
+    zero = ZERO_FRACTION * max(mu * f0 if mu else 0.0, abs(fn))
+    if fx is not None and abs(fx) <= zero:
+        fx = 0.0
+    if abs(fy) <= zero:
+        fy = 0.0
     if letter is not None:  # compact: "D'  step 7: F_x/(mu F0+) = 0.773" / "F_x = 2.32 N, stick 1.000"
         ax.text(0.97, 0.96, f"$\\mathbf{{{_tex_letter(letter)}}}$", transform=ax.transAxes, ha="right", va="top",
                 fontsize=15, fontweight="bold", zorder=6,
                 bbox={"boxstyle": "round,pad=0.2", "fc": "w", "ec": "0.6", "alpha": 0.9})
         line1 = _step_name(ds, step)
-        if fx is not None and abs(fx) <= 1e-9 * max(mu * f0 if mu else 0.0, abs(fn), 1e-300):
-            fx = 0.0  # round-off at the start (F_x = 0)
         if mu is not None and f0 > 0 and fx is not None:
             line1 += rf": $F_x/(\mu F_0^+)$ = {fx / (mu * f0):.3f}"
         line2 = f"$F_x$ = {format_value(fx, 'force', 3)}, " if fx is not None else ""
