@@ -36,6 +36,8 @@ from __future__ import annotations
 
 import math
 import warnings
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -138,6 +140,409 @@ def _near_capacity(operator, pressure, contact, mu, tangential_force, margin: fl
         return False
 
 
+def _checked_tangential_load(normal_force, approach, tangential_force, tangential_displacement, max_coupling):
+    """Check the load arguments of :func:`solve_coupled` and return the tangential force.
+
+    Parameters
+    ----------
+    normal_force, approach : float or None
+        Normal load, force (N) or approach (m); exactly one must be given.
+    tangential_force, tangential_displacement : (float, float) or None
+        Tangential load, force (N) or displacement (m); at most one.
+    max_coupling : int
+        Outer iterations (>= 1).
+
+    Returns
+    -------
+    tangential_force : (float, float) or None
+        As given, or ``(0.0, 0.0)`` when neither tangential load is given.
+    """
+    if (normal_force is None) == (approach is None):
+        raise InputError("load", "give exactly one of normal_force or approach")
+    if tangential_force is not None and tangential_displacement is not None:
+        raise InputError("friction", "give tangential_force or tangential_displacement, not both")
+    if tangential_force is None and tangential_displacement is None:
+        tangential_force = (0.0, 0.0)
+    if max_coupling < 1:
+        raise InputError("solve_coupled.max_coupling", f"must be >= 1, got {max_coupling!r}")
+    return tangential_force
+
+
+class _NormalSolve:
+    """The normal solve of a coupling pass (step 1 of the loop), warm-started from the last state.
+
+    A self-consistent law (capillary islands) solves its own normal problem: the islands are
+    recomputed from the gap of every pass, and its last state is kept in ``capillary``.
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        3x3 operator of the step.
+    interaction : Interaction or CapillaryModel or None
+        Stress law outside contact, or a self-consistent law.
+    initial : CoupledResult or None
+        Warm start of the step (its normal state stands in for an extrapolated pressure).
+    normal_force, approach : float or None
+        Normal load, force (N) or approach (m).
+    max_iterations : int
+        Per solver call.
+    normal_method : str
+        ``method`` of :func:`~tribobem.solvers.normal.solve_normal`.
+    """
+
+    def __init__(self, operator, interaction, initial, normal_force, approach, max_iterations, normal_method):
+        self.operator = operator
+        self.interaction = interaction
+        self.initial = initial
+        self.normal_force = normal_force
+        self.approach = approach
+        self.max_iterations = max_iterations
+        self.normal_method = normal_method
+        self.normal_load = {"force": normal_force} if normal_force is not None else {"approach": approach}
+        self.humid = bool(getattr(interaction, "self_consistent", False))
+        #: The self-consistent law's state of the last solve (None without one).
+        self.capillary = None
+
+    def __call__(self, h_k, n_tol, warm, contact0=None) -> NormalResult:
+        """Solve the normal problem on the gap ``h_k`` (m) to the tolerance ``n_tol``, warm-started
+        from ``warm`` (a NormalResult, a pressure in Pa, or None) and, with it, ``contact0``."""
+        operator, interaction, max_iterations = self.operator, self.interaction, self.max_iterations
+        if self.humid:
+            if not isinstance(warm, NormalResult) and not hasattr(warm, "normal"):
+                # an extrapolated pressure: the last state
+                warm = self.initial.normal if self.initial is not None else None
+            self.capillary = interaction.solve_state(operator, h_k, tol=n_tol, max_iterations=max_iterations,
+                                                     initial=warm, normal_force=self.normal_force,
+                                                     approach=self.approach)
+            return self.capillary.normal
+        if contact0 is not None:
+            return solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
+                                initial_pressure=warm, initial_contact=contact0, method=self.normal_method,
+                                **self.normal_load)
+        # a NormalResult of an earlier pass (this operator): its displacement is K p of the warm start
+        u_warm = warm.displacement if isinstance(warm, NormalResult) and self.normal_method == "polonsky_keer" else None
+        return solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
+                            initial_pressure=warm, initial_displacement=u_warm, method=self.normal_method,
+                            **self.normal_load)
+
+
+def _start_state(initial, extrapolate, xp):
+    """Warm start of a step: the last step's state, or its linear extrapolation along the path.
+
+    Parameters
+    ----------
+    initial : CoupledResult or None
+        The previous step.
+    extrapolate : (CoupledResult, float) or None
+        ``(older, w)``: the step before ``initial`` and the ratio of the load increments.
+    xp : module
+        Array namespace of the operator's backend.
+
+    Returns
+    -------
+    p_init : NormalResult or (ndarray, ndarray) or None
+        Warm start of the first normal solve: the last normal state, or the extrapolated pressure
+        (Pa) with the last contact.
+    shear : ndarray or None
+        Warm-start shear (2, nx, ny) in Pa.
+    stick : ndarray or None
+        Warm-start stick zone.
+    rho_hint : float or None
+        Contraction factor measured on the previous step.
+    """
+    if initial is None:
+        return None, None, None, None
+    p_init = initial.normal
+    shear = initial.tangential.shear
+    stick = initial.tangential.stick
+    # the contraction measured on the previous step (kept on the result by this function)
+    rho_hint = getattr(initial, "_contraction", None)
+    if rho_hint is None:
+        rho_hint = _contraction(list(initial.coupling_history))
+    if extrapolate is not None:
+        older, w = extrapolate
+        w = float(w)
+        if older is not None and math.isfinite(w) and w > 0:
+            shear = (1.0 + w) * xp.asarray(shear) - w * xp.asarray(older.tangential.shear)
+            p_x = (1.0 + w) * xp.asarray(initial.normal.pressure) - w * xp.asarray(older.normal.pressure)
+            p_init = (p_x, initial.normal.contact)
+    return p_init, shear, stick, rho_hint
+
+
+def _predictor(operator, initial, p_init, shear, stick, tangential_kw, tangential_tol):
+    """Predictor: the tangential problem at the predicted pressure, before the first pass.
+
+    The shear of the last step (even extrapolated) misses this step's shear by 1-10 %, and its
+    normal displacement leaves the first pressure as far from the solution as the predicted one
+    (measured: 2e-3 relative); the shear solved at the predicted pressure is one contraction
+    (rho ~ 0.05) closer, so the first pass starts from a pressure error ~1e-4 and the loop needs
+    one pass fewer.
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        3x3 operator of the step.
+    initial : CoupledResult
+        The previous step.
+    p_init : NormalResult or (ndarray, ndarray)
+        Warm start of the step (see :func:`_start_state`).
+    shear, stick : ndarray
+        Warm-start shear (Pa) and stick zone.
+    tangential_kw : dict
+        Load and solver keywords of :func:`~tribobem.solvers.tangential.solve_tangential`.
+    tangential_tol : float
+        Tolerance of the run's tangential solves (the predictor's is at least ``PREDICTOR_TOL``).
+
+    Returns
+    -------
+    shear, stick : ndarray
+        The predictor's shear (Pa) and stick zone, or the warm start's when it was skipped.
+    predicted : ndarray or None
+        The predicted pressure (Pa, on the host) at which the shear was solved (None: skipped).
+    slip_scale : float or None
+        Slip scale of the predictor's tangential solve (None: skipped).
+    """
+    p_pred = p_init[0] if isinstance(p_init, tuple) else initial.normal.pressure
+    c_pred = p_init[1] if isinstance(p_init, tuple) else initial.normal.contact
+    # Within 1e-3 of what the predicted pressure carries, the all-slip state there degenerates
+    # (its tractions all but aligned) and costs many times a step, for a pressure that is only a
+    # prediction: the passes solve it instead.
+    if tangential_kw["displacement"] is None and _near_capacity(
+            operator, p_pred, c_pred, tangential_kw["friction_coefficient"], tangential_kw["force"]):
+        return shear, stick, None, None
+    try:
+        pre = solve_tangential(operator, p_pred, c_pred, initial_shear=shear, initial_stick=stick,
+                               tol=max(tangential_tol, PREDICTOR_TOL), full_fields=False, **tangential_kw)
+    except GrossSlipError:
+        return shear, stick, None, None  # the predicted pressure cannot carry the force: start from the warm start
+    # on the host, as the pressures of the normal results it is compared with
+    return pre.shear, pre.stick, operator.backend.to_numpy(p_pred), pre.info["slip_scale"]
+
+
+@dataclass
+class _Passes:
+    """State of the outer loop, carried from pass to pass (pressures in Pa, shears in Pa,
+    displacements in m)."""
+
+    #: The shear acts on the normal problem (dissimilar materials, no Goodman approximation).
+    two_way: bool
+    #: Number of passes allowed.
+    n_outer: int
+    #: Warm start of the next normal solve (NormalResult, (pressure, contact) or None).
+    p_init: Any
+    #: Warm-start shear (2, nx, ny) and stick zone of the next tangential solve.
+    shear: Any
+    stick: Any
+    #: Slip scale of the step's first tangential solve, reused by the later ones.
+    s_scale: float | None
+    #: Shear-induced normal displacement entering the gap of the next pass (None: none yet).
+    uz: Any
+    #: Contraction factor measured on the previous step.
+    rho_hint: float | None
+    #: Pressure at which the predictor solved the shear (a fixed-point iterate), or None.
+    predicted: Any
+    #: Number of leading pressure changes that are not fixed-point differences.
+    first: int
+    #: Relative pressure change of every pass.
+    history: list[float] = field(default_factory=list)
+    #: Pressure change of the last pass (sets the inexact tolerances of the next one).
+    last_change: float = float("inf")
+    #: Anderson(1) memory: the last residual G(uz) - uz and image G(uz).
+    prev_f: Any = None
+    prev_g: Any = None
+    normal: NormalResult | None = None
+    tang: Any = None
+    converged: bool = False
+    message: str = ""
+
+
+def _start_passes(operator, top, initial, extrapolate, shear_on_pressure, max_coupling, tangential_kw,
+                  tangential_tol) -> _Passes:
+    """State of the loop before its first pass: the warm start, the predictor's shear and the
+    shear-induced normal displacement of the first gap (see :func:`solve_coupled`)."""
+    xp = top.xp
+    p_init, shear, stick, rho_hint = _start_state(initial, extrapolate, xp)
+    predicted = None
+    s_scale = None
+    uz = None
+    if initial is not None and top.coupled and shear_on_pressure:
+        if PREDICTOR:
+            shear, stick, predicted, s_scale = _predictor(operator, initial, p_init, shear, stick, tangential_kw,
+                                                          tangential_tol)
+        uz = top.normal_from_shear(xp.asarray(shear[0]), xp.asarray(shear[1]))
+    two_way = top.coupled and shear_on_pressure
+    return _Passes(two_way=two_way, n_outer=max_coupling if two_way else 1, p_init=p_init, shear=shear,
+                   stick=stick, s_scale=s_scale, uz=uz, rho_hint=rho_hint, predicted=predicted,
+                   first=0 if predicted is not None else 1)
+
+
+def _normal_tolerance(st: _Passes, tol: float, coupling_tol: float) -> float:
+    """Tolerance of a pass's normal solve: inexact (1e-2 x the last pressure change, at most
+    ``INEXACT_NORMAL``) while the loop is far from converged; ``tol`` on the pass the error
+    estimate will likely accept, so that it is solved at ``tol`` from the start."""
+    rho = _contraction(st.history, st.rho_hint, st.first)
+    likely_last = _likely_last(rho, st.rho_hint, len(st.history) >= st.first + 2, st.last_change, coupling_tol)
+    if not st.two_way or likely_last or INEXACT_NORMAL is None:
+        return tol
+    return max(tol, min(INEXACT_NORMAL, 1e-2 * st.last_change))
+
+
+def _pressure_change(st: _Passes, k: int) -> float:
+    """Relative pressure change sum|p - p_old| / sum|p| of pass ``k`` (step 3 of the loop)."""
+    if k == 1 and st.predicted is not None:
+        # the predictor solved the shear at this pressure: a fixed-point difference
+        p_prev = st.predicted
+    elif st.p_init is not None and isinstance(st.p_init, NormalResult):
+        p_prev = st.p_init.pressure
+    else:
+        return float("inf") if st.two_way else 0.0
+    return (float(np.abs(st.normal.pressure - p_prev).sum())
+            / max(float(np.abs(st.normal.pressure).sum()), 1e-300))
+
+
+def _normal_pass(st: _Passes, k: int, h, normal_solve: _NormalSolve, initial, tol: float,
+                 coupling_tol: float):
+    """Normal solve of pass ``k`` on the gap h + uz (m) and the stopping test it alone decides.
+
+    Returns
+    -------
+    change : float
+        Relative pressure change of the pass (also appended to ``st.history``).
+    done : bool
+        Whether the loop has converged with this pass (its normal state then solved at ``tol``).
+    """
+    h_k = h if st.uz is None else h + st.uz
+    n_tol = _normal_tolerance(st, tol, coupling_tol)
+    if isinstance(st.p_init, tuple):  # extrapolated pressure with the contact of the last step
+        p0, c0 = st.p_init
+        st.normal = normal_solve(h_k, n_tol, p0, c0)
+        st.p_init = initial.normal  # the change of the first pass is measured from the last step
+    else:
+        st.normal = normal_solve(h_k, n_tol, st.p_init)
+    change = _pressure_change(st, k)
+    st.history.append(change)
+    # Stop on the a-posteriori estimate of the remaining pressure error of a linear contraction,
+    # change x rho / (1 - rho) (rho measured from the last two changes), or on the change itself;
+    # at least two normal solves (the last one from the shear of a tangential solve at 1e-2 x the
+    # previous change, not the predictor's 1e-4).
+    rho = _contraction(st.history, st.rho_hint, st.first)
+    done = (not st.two_way) or (k > 1 and (change < coupling_tol
+                                           or (rho is not None and _remaining(change, rho) < coupling_tol)))
+    if done and n_tol > tol:
+        # Accepted at an inexact normal tolerance (<= 1e-2 x the last change, below the estimated
+        # error): finish the same normal problem at ``tol``.
+        st.normal = normal_solve(h_k, tol, st.normal)
+    return change, done
+
+
+def _tangential_pass(st: _Passes, operator, final: bool, tangential_kw: dict, tangential_tol: float) -> None:
+    """Tangential solve of a pass at its pressure (step 2 of the loop): inexact (1e-2 x the last
+    pressure change, at most ``INEXACT_TANGENTIAL``, no full slip fields) except on the final pass."""
+    t_tol = tangential_tol if final else max(tangential_tol, min(INEXACT_TANGENTIAL, 1e-2 * st.last_change))
+    st.tang = solve_tangential(operator, st.normal.pressure, st.normal.contact, initial_shear=st.shear,
+                               initial_stick=st.stick, tol=t_tol, slip_scale=st.s_scale, full_fields=final,
+                               **tangential_kw)
+    st.s_scale = st.tang.info["slip_scale"]
+    st.p_init, st.shear, st.stick = st.normal, st.tang.shear, st.tang.stick
+
+
+def _pass_ends_loop(st: _Passes, top, k: int, change: float, done: bool, final: bool) -> bool:
+    """Record the outcome of pass ``k`` and whether the loop stops after it."""
+    if not st.two_way:
+        st.converged = True
+        st.message = ("uncoupled (identical materials): one pass" if not top.coupled
+                      else "Goodman approximation (shear not acting on the pressure): one pass")
+        return True
+    st.last_change = change
+    if done:
+        st.converged = True
+        st.message = f"coupling converged in {k} iterations"
+        return True
+    return final
+
+
+def _next_normal_displacement(st: _Passes, top):
+    """Shear-induced normal displacement K_zt q (m) of the next pass's gap, Anderson(1)-mixed.
+
+    The outer fixed point is uz -> G(uz) = K_zt q(p(uz)); with ``ANDERSON`` and a previous
+    iterate the new uz is G - gamma (G - G_prev), gamma minimising the mixed residual.
+    """
+    xp = top.xp
+    g_k = top.normal_from_shear(xp.asarray(st.tang.shear[0]), xp.asarray(st.tang.shear[1]))
+    if not (ANDERSON and st.uz is not None):
+        return g_k
+    f_k = g_k - st.uz
+    if st.prev_f is not None:
+        df = f_k - st.prev_f
+        dd = float((df * df).sum())
+        gamma = float((f_k * df).sum()) / dd if dd > 0 else 0.0
+        new_uz = g_k - gamma * (g_k - st.prev_g)
+    else:
+        new_uz = g_k
+    st.prev_f, st.prev_g = f_k, g_k
+    return new_uz
+
+
+def _corrector_passes(st: _Passes, operator, top, h, normal_solve: _NormalSolve, initial, *, tol: float,
+                      tangential_tol: float, coupling_tol: float, max_coupling: int, tangential_kw: dict) -> None:
+    """The coupling passes (normal solve, stopping test, tangential solve, mixing), in ``st``.
+
+    The inner solves' ConvergenceWarnings are silenced: the loop reports their state once, on
+    the result (:func:`_checked_convergence`).
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        for k in range(1, st.n_outer + 1):
+            # Inexact inner solves while the outer loop is far from converged: the tolerances
+            # follow the last pressure change.  The stopping test needs only the pressure, so it
+            # is made right after the normal solve: the final pass's tangential solve is then
+            # always at ``tangential_tol`` (and the only one that builds the full slip fields).
+            change, done = _normal_pass(st, k, h, normal_solve, initial, tol, coupling_tol)
+            final = done or k == st.n_outer
+            _tangential_pass(st, operator, final, tangential_kw, tangential_tol)
+            if _pass_ends_loop(st, top, k, change, done, final):
+                break
+            st.uz = _next_normal_displacement(st, top)
+        if not st.converged:
+            st.message = (f"coupling loop not converged after {max_coupling} iterations (pressure change "
+                          f"{st.history[-1]:.3e}, tolerance {coupling_tol:.1e})")
+
+
+def _checked_convergence(st: _Passes, capillary):
+    """Whether the step converged (loop, last normal and tangential solves, meniscus islands),
+    and its message; a ConvergenceWarning (at the caller of :func:`solve_coupled`) when not.
+
+    Returns
+    -------
+    ok : bool
+    message : str
+    """
+    islands_ok = capillary is None or bool(capillary.converged)
+    ok = st.converged and st.normal.converged and st.tang.converged and islands_ok
+    if ok:
+        return ok, st.message
+    parts = [st.message] if not st.converged else []
+    if not islands_ok:
+        parts.append(f"meniscus islands: {capillary.message}")
+    elif not st.normal.converged:
+        parts.append(f"normal solver: {st.normal.message}")
+    if not st.tang.converged:
+        parts.append(f"tangential solver: {st.tang.message}")
+    message = "; ".join(parts)
+    # stacklevel 3: this helper, solve_coupled, its caller
+    warnings.warn(message, ConvergenceWarning, stacklevel=3)
+    return ok, message
+
+
+def _coupled_result(st: _Passes, capillary, ok: bool, message: str) -> CoupledResult:
+    """The step's CoupledResult, with the measured contraction kept as the next step's hint."""
+    res = CoupledResult(normal=st.normal, tangential=st.tang, coupling_iterations=len(st.history),
+                        coupling_history=np.asarray(st.history), converged=ok, message=message,
+                        capillary=capillary)
+    res._contraction = _contraction(st.history, None, st.first) if st.two_way else None
+    return res
+
+
 def solve_coupled(
     operator: ConvolutionOperator,
     gap,
@@ -218,196 +623,19 @@ def solve_coupled(
     GrossSlipError
         When the tangential force cannot be carried (see :func:`solve_tangential`).
     """
-    if (normal_force is None) == (approach is None):
-        raise InputError("load", "give exactly one of normal_force or approach")
-    if tangential_force is not None and tangential_displacement is not None:
-        raise InputError("friction", "give tangential_force or tangential_displacement, not both")
-    if tangential_force is None and tangential_displacement is None:
-        tangential_force = (0.0, 0.0)
-    if max_coupling < 1:
-        raise InputError("solve_coupled.max_coupling", f"must be >= 1, got {max_coupling!r}")
+    tangential_force = _checked_tangential_load(normal_force, approach, tangential_force, tangential_displacement,
+                                                max_coupling)
     top = tangential_operator(operator)
-    xp = top.xp
-    h = xp.asarray(gap, dtype=float)
-    normal_load = {"force": normal_force} if normal_force is not None else {"approach": approach}
+    h = top.xp.asarray(gap, dtype=float)
     _beyond_capacity(interaction, normal_force, friction_coefficient, tangential_force, tangential_displacement)
-
-    # A self-consistent law (capillary islands) solves its own normal problem: the islands are
-    # recomputed from the gap of every pass.
-    humid = bool(getattr(interaction, "self_consistent", False))
-    box = {"state": None}
-
-    def normal_solve(h_k, n_tol, warm, contact0=None):
-        if humid:
-            if not isinstance(warm, NormalResult) and not hasattr(warm, "normal"):
-                warm = initial.normal if initial is not None else None  # an extrapolated pressure: the last state
-            box["state"] = interaction.solve_state(operator, h_k, tol=n_tol, max_iterations=max_iterations,
-                                                   initial=warm, normal_force=normal_force, approach=approach)
-            return box["state"].normal
-        if contact0 is not None:
-            return solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
-                                initial_pressure=warm, initial_contact=contact0, method=normal_method, **normal_load)
-        # a NormalResult of an earlier pass (this operator): its displacement is K p of the warm start
-        u_warm = warm.displacement if isinstance(warm, NormalResult) and normal_method == "polonsky_keer" else None
-        return solve_normal(operator, h_k, interaction=interaction, tol=n_tol, max_iterations=max_iterations,
-                            initial_pressure=warm, initial_displacement=u_warm, method=normal_method, **normal_load)
-
-    shear = None
-    stick = None
-    predicted = None  # pressure at which the predictor solved the shear (a fixed-point iterate)
-    s_scale = None  # slip scale of the first tangential solve of the step, reused by the later ones
-    rho_hint = None
-    uz = None
-    p_init = None
-    if initial is not None:
-        p_init = initial.normal
-        shear = initial.tangential.shear
-        stick = initial.tangential.stick
-        # the contraction measured on the previous step (kept on the result by this function)
-        rho_hint = getattr(initial, "_contraction", None)
-        if rho_hint is None:
-            rho_hint = _contraction(list(initial.coupling_history))
-        if extrapolate is not None:
-            older, w = extrapolate
-            w = float(w)
-            if older is not None and math.isfinite(w) and w > 0:
-                shear = (1.0 + w) * xp.asarray(shear) - w * xp.asarray(older.tangential.shear)
-                p_x = (1.0 + w) * xp.asarray(initial.normal.pressure) - w * xp.asarray(older.normal.pressure)
-                p_init = (p_x, initial.normal.contact)
-        if top.coupled and shear_on_pressure:
-            if PREDICTOR:
-                # Predictor: the tangential problem at the predicted pressure first.  The shear
-                # of the last step (even extrapolated) misses this step's shear by 1-10 %, and its
-                # normal displacement leaves the first pressure as far from the solution as the
-                # predicted one (measured: 2e-3 relative); the shear solved at the predicted
-                # pressure is one contraction (rho ~ 0.05) closer, so the first pass starts from
-                # a pressure error ~1e-4 and the loop needs one pass fewer.
-                p_pred = p_init[0] if isinstance(p_init, tuple) else initial.normal.pressure
-                c_pred = p_init[1] if isinstance(p_init, tuple) else initial.normal.contact
-                pre = None
-                # Within 1e-3 of what the predicted pressure carries, the all-slip state there
-                # degenerates (its tractions all but aligned) and costs many times a step, for a
-                # pressure that is only a prediction: the passes solve it instead.
-                near = tangential_displacement is None and _near_capacity(
-                    operator, p_pred, c_pred, friction_coefficient, tangential_force)
-                if not near:
-                    try:
-                        pre = solve_tangential(operator, p_pred, c_pred, friction_coefficient=friction_coefficient,
-                                               force=tangential_force, displacement=tangential_displacement,
-                                               reference=reference, initial_shear=shear, initial_stick=stick,
-                                               tol=max(tangential_tol, PREDICTOR_TOL), max_iterations=max_iterations,
-                                               full_fields=False)
-                    except GrossSlipError:
-                        pre = None  # the predicted pressure cannot carry the force: start from the warm start
-                if pre is not None:
-                    # on the host, as the pressures of the normal results it is compared with
-                    shear, stick, predicted = pre.shear, pre.stick, operator.backend.to_numpy(p_pred)
-                    s_scale = pre.info["slip_scale"]
-            uz = top.normal_from_shear(xp.asarray(shear[0]), xp.asarray(shear[1]))
-    history: list[float] = []
-    first = 0 if predicted is not None else 1
-    converged = False
-    message = ""
-    normal: NormalResult | None = None
-    tang = None
-    two_way = top.coupled and shear_on_pressure
-    n_outer = max_coupling if two_way else 1
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        last_change = float("inf")
-        prev_f = prev_g = None
-        for k in range(1, n_outer + 1):
-            h_k = h if uz is None else h + uz
-            # Inexact inner solves while the outer loop is far from converged: the tolerances
-            # follow the last pressure change.  The stopping test needs only the pressure, so it
-            # is made right after the normal solve: the final pass's tangential solve is then
-            # always at ``tangential_tol`` (and the only one that builds the full slip fields),
-            # and its normal solve at ``tol``, the pass the error estimate will likely accept
-            # being solved at ``tol`` from the start.
-            rho = _contraction(history, rho_hint, first)
-            likely_last = _likely_last(rho, rho_hint, len(history) >= first + 2, last_change, coupling_tol)
-            n_tol = tol if (not two_way or likely_last or INEXACT_NORMAL is None) else \
-                max(tol, min(INEXACT_NORMAL, 1e-2 * last_change))
-            if isinstance(p_init, tuple):  # extrapolated pressure with the contact of the last step
-                p0, c0 = p_init
-                normal = normal_solve(h_k, n_tol, p0, c0)
-                p_init = initial.normal  # the change of the first pass is measured from the last step
-            else:
-                normal = normal_solve(h_k, n_tol, p_init)
-            if k == 1 and predicted is not None:
-                # the predictor solved the shear at this pressure: a fixed-point difference
-                p_prev = predicted
-                change = float(np.abs(normal.pressure - p_prev).sum()) / max(float(np.abs(normal.pressure).sum()), 1e-300)
-            elif p_init is not None and isinstance(p_init, NormalResult):
-                p_prev = p_init.pressure
-                change = float(np.abs(normal.pressure - p_prev).sum()) / max(float(np.abs(normal.pressure).sum()), 1e-300)
-            else:
-                change = float("inf") if two_way else 0.0
-            history.append(change)
-            # Stop on the a-posteriori estimate of the remaining pressure error of a linear
-            # contraction, change x rho / (1 - rho) (rho measured from the last two changes),
-            # or on the change itself; at least two normal solves (the last one from the shear
-            # of a tangential solve at 1e-2 x the previous change, not the predictor's 1e-4).
-            rho = _contraction(history, rho_hint, first)
-            done = (not two_way) or (k > 1 and (change < coupling_tol
-                                                or (rho is not None and _remaining(change, rho) < coupling_tol)))
-            if done and n_tol > tol:
-                # Accepted at an inexact normal tolerance (<= 1e-2 x the last change, below the
-                # estimated error): finish the same normal problem at ``tol``.
-                normal = normal_solve(h_k, tol, normal)
-            final = done or k == n_outer
-            t_tol = tangential_tol if final else max(tangential_tol, min(INEXACT_TANGENTIAL, 1e-2 * last_change))
-            tang = solve_tangential(operator, normal.pressure, normal.contact,
-                                    friction_coefficient=friction_coefficient, force=tangential_force,
-                                    displacement=tangential_displacement, reference=reference,
-                                    initial_shear=shear, initial_stick=stick, tol=t_tol,
-                                    max_iterations=max_iterations, slip_scale=s_scale, full_fields=final)
-            s_scale = tang.info["slip_scale"]
-            p_init, shear, stick = normal, tang.shear, tang.stick
-            if not two_way:
-                converged = True
-                message = ("uncoupled (identical materials): one pass" if not top.coupled
-                           else "Goodman approximation (shear not acting on the pressure): one pass")
-                break
-            last_change = change
-            if done:
-                converged = True
-                message = f"coupling converged in {k} iterations"
-                break
-            if final:
-                break
-            g_k = top.normal_from_shear(xp.asarray(tang.shear[0]), xp.asarray(tang.shear[1]))
-            if ANDERSON and uz is not None:
-                # Anderson(1) mixing of the fixed point uz -> G(uz) (shear-induced normal displacement).
-                f_k = g_k - uz
-                if prev_f is not None:
-                    df = f_k - prev_f
-                    dd = float((df * df).sum())
-                    gamma = float((f_k * df).sum()) / dd if dd > 0 else 0.0
-                    new_uz = g_k - gamma * (g_k - prev_g)
-                else:
-                    new_uz = g_k
-                prev_f, prev_g = f_k, g_k
-                uz = new_uz
-            else:
-                uz = g_k
-        if not converged:
-            message = (f"coupling loop not converged after {max_coupling} iterations (pressure change "
-                       f"{history[-1]:.3e}, tolerance {coupling_tol:.1e})")
-    cap = box["state"]
-    islands_ok = cap is None or bool(cap.converged)
-    ok = converged and normal.converged and tang.converged and islands_ok
-    if not ok:
-        parts = [message] if not converged else []
-        if not islands_ok:
-            parts.append(f"meniscus islands: {cap.message}")
-        elif not normal.converged:
-            parts.append(f"normal solver: {normal.message}")
-        if not tang.converged:
-            parts.append(f"tangential solver: {tang.message}")
-        message = "; ".join(parts)
-        warnings.warn(message, ConvergenceWarning, stacklevel=2)
-    res = CoupledResult(normal=normal, tangential=tang, coupling_iterations=len(history),
-                        coupling_history=np.asarray(history), converged=ok, message=message, capillary=cap)
-    res._contraction = _contraction(history, None, first) if two_way else None
-    return res
+    normal_solve = _NormalSolve(operator, interaction, initial, normal_force, approach, max_iterations,
+                                normal_method)
+    tangential_kw = {"friction_coefficient": friction_coefficient, "force": tangential_force,
+                     "displacement": tangential_displacement, "reference": reference,
+                     "max_iterations": max_iterations}
+    st = _start_passes(operator, top, initial, extrapolate, shear_on_pressure, max_coupling, tangential_kw,
+                       tangential_tol)
+    _corrector_passes(st, operator, top, h, normal_solve, initial, tol=tol, tangential_tol=tangential_tol,
+                      coupling_tol=coupling_tol, max_coupling=max_coupling, tangential_kw=tangential_kw)
+    ok, message = _checked_convergence(st, normal_solve.capillary)
+    return _coupled_result(st, normal_solve.capillary, ok, message)

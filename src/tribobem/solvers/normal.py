@@ -326,6 +326,56 @@ def solve_normal(
                          {"method": "polonsky_keer", "counters": counters})
 
 
+#: Why a force-controlled iteration stops when no node is in contact.
+_NO_CONTACT = "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
+
+
+class _Step:
+    """What the steps of one CG iteration hand on to the later ones (:meth:`_CGState.iterate`).
+
+    Large temporaries are kept here rather than in the callers' frames so that a step can
+    free them before a later allocation, as the memory peak of a uniform start (every node
+    in contact) requires.
+
+    Attributes
+    ----------
+    r : array or None
+        K t on the full (flat) grid (m per unit of t, step 4), overwritten by the
+        displacement update; None without a step or once freed.
+    p_c_old, p_c_new : array
+        Pressure on the contact nodes at the iteration's start and after the CG update (Pa).
+    stays : array of bool
+        Which contact nodes stay (p_c_new > floor).
+    out_new : array or None
+        The outside stress of every node's gap (Pa), None without an outside law.
+    changed : bool
+        Whether a node changed status or the outside stresses were applied (step 5).
+    diff : float or None
+        sum |p_new - p_old| (Pa) without a status change.
+    old_idx, moved_nodes, p_moved_old : array
+        After a status change: the old contact nodes, the non-contact nodes whose pressure
+        changed and their old pressure (Pa).
+    sparse, w_change : tuple or None
+        (nodes, pressure changes in Pa) whose columns of K update u and W (few nodes only).
+    W_old : array or None
+        W of the old sets (m), when ``w_change`` updates it.
+    scale : float
+        The force balance's scale of p - floor on the contact (step 6).
+    """
+
+    __slots__ = ("r", "p_c_old", "p_c_new", "stays", "out_new", "changed", "diff", "old_idx",
+                 "moved_nodes", "p_moved_old", "sparse", "w_change", "W_old", "scale")
+
+    def __init__(self, r):
+        self.r = r
+        self.p_c_old = self.p_c_new = self.stays = self.out_new = None
+        self.changed = False
+        self.diff = None
+        self.old_idx = self.moved_nodes = self.p_moved_old = None
+        self.sparse = self.w_change = self.W_old = None
+        self.scale = 1.0
+
+
 class _CGState(IterativeSolver):
     """Working state of the constrained CG (Paper A steps 2-6).
 
@@ -501,24 +551,66 @@ class _CGState(IterativeSolver):
         return self.W
 
     def iterate(self):
-        """One CG iteration; returns an error message when no equilibrium exists."""
-        xp, op, floor, p = self.xp, self.op, self.floor, self.p
+        """One CG iteration (Paper A steps 2-6); returns an error message when no equilibrium exists."""
         self.started_exact = self.u_exact
-        idx = self.idx
-        n_c = len(idx)
-        if self.force_control and n_c == 0:
-            return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
+        if self.force_control and len(self.idx) == 0:
+            return _NO_CONTACT
+        g_c = self._contact_gap()
+        t_c, G = self._search_direction(g_c)
+        step = _Step(self._step_length(g_c, t_c, G))
+        del g_c  # (t_c may be the same array)
+        self._update_sets(t_c, step)
+        del t_c  # kept as self.t_c
+        message = self._balance_force(step)
+        if message is not None:
+            return message
+        self._measure_change(step)
+        # Free the contact-set temporaries before a convolution allocates its arrays (the
+        # first iteration of a uniform start has every node in contact).
+        step.p_c_old = step.p_c_new = step.stays = None
+        self._update_displacement(step)
+        return None
 
-        # Step 2: gap on the contact nodes; under force control the approach is the mean
-        # of h + u there (Polonsky-Keer), so the contact gap has zero mean.
+    def _contact_gap(self):
+        """Step 2: the gap on the contact nodes.
+
+        Under force control the approach ``self.delta`` (m) is set to the mean of h + u there
+        (Polonsky-Keer), so the contact gap has zero mean.
+
+        Returns
+        -------
+        array
+            The gap g_c on the contact nodes ``self.idx`` (m), a new array.
+        """
+        idx = self.idx
         if self.force_control:
             g_c = self.u[idx] + self.h[idx]
             self.delta = float(g_c.mean())
             g_c -= self.delta
         else:
             g_c = self.u[idx] + (self.h[idx] - self.shift)
+        return g_c
 
-        # Step 3: conjugate direction; preconditioned once the sets have settled.
+    def _search_direction(self, g_c):
+        """Step 3: the conjugate direction; preconditioned once the sets have settled.
+
+        Also sets ``self.G_old`` (the CG's scalar for the next iteration) and the relative rms
+        contact gap ``self.gap_residual``.
+
+        Parameters
+        ----------
+        g_c : array
+            The contact gap of step 2 (m).
+
+        Returns
+        -------
+        t_c : array
+            The search direction on the contact nodes (m; Pa when preconditioned); may be
+            ``g_c`` itself.
+        G : float
+            g_c . g_c (m^2).
+        """
+        n_c = len(self.idx)
         G = dot(g_c, g_c)
         after = self.precondition_after
         use_pre = after is not None and self.stable >= after and n_c > 1 and self._box() is not None
@@ -531,18 +623,37 @@ class _CGState(IterativeSolver):
             t_c = z_c  # not a descent direction: restart from (preconditioned) steepest descent
         self.G_old = rz
         self.gap_residual = math.sqrt(G / n_c) / self.h_scale if n_c else 0.0
+        return t_c, G
 
-        # Step 4: step length from r = K t (mean-free on the contact under force control).
-        r = None
+    def _step_length(self, g_c, t_c, G):
+        """Step 4: the step length ``self.tau`` from r = K t (mean-free on the contact under
+        force control).
+
+        Parameters
+        ----------
+        g_c : array
+            The contact gap (m).
+        t_c : array
+            The search direction on the contact nodes (step 3).
+        G : float
+            g_c . g_c (m^2).
+
+        Returns
+        -------
+        array or None
+            r = K t on the full (flat) grid (m per unit of t), None when no step is taken.
+        """
+        idx = self.idx
+        n_c = len(idx)
         # A contact gap at round-off level (e.g. the first step of a warm start at a new
         # load) gives no usable step: tau would be a ratio of round-off; only the force
-        # balance below acts.
+        # balance (step 6) acts.
         if n_c > 0 and G > (1e-13 * self.h_scale) ** 2 * n_c:
             t_full = self.g  # free until step 5
             t_full.fill(0.0)
             t_full[idx] = t_c
             r_buf, spec_buf = self._buffers()
-            r = convolve(op, t_full.reshape(self.shape), out=r_buf, spectrum=spec_buf).ravel()
+            r = convolve(self.op, t_full.reshape(self.shape), out=r_buf, spectrum=spec_buf).ravel()
             self.n_kt += 1
             r_c = r[idx]
             rt = dot(r_c, t_c)
@@ -550,21 +661,64 @@ class _CGState(IterativeSolver):
                 rt -= float(r_c.mean()) * float(t_c.sum())
             del r_c
             self.tau = dot(g_c, t_c) / rt if rt > 0 else self.tau0
-        elif n_c > 0:
+            return r
+        if n_c > 0:
             self.tau = 0.0
         else:
             self.tau = self.tau0  # no contact yet: penetrating nodes enter with p = -g / K_00
-        tau = self.tau
-        del g_c  # (t_c may be the same array)
+        return None
 
-        # Step 5: update on the contact; every node's status from the full gap.
-        p_c_old = p[idx]
-        p_c_new = t_c * -tau  # p_c_old - tau t_c with one temporary
+    def _update_sets(self, t_c, step):
+        """Step 5: update the pressure on the contact; every node's status from the full gap.
+
+        Sets ``step.changed`` (a node changed status or the outside stresses were applied),
+        ``step.p_c_old`` and, without a change, ``step.diff``; keeps the next search direction
+        in ``self.t_c``.
+
+        Parameters
+        ----------
+        t_c : array
+            The search direction on the contact nodes (step 3).
+        step : _Step
+            The iteration's record; holds r = K t (step 4).
+        """
+        xp, p, idx = self.xp, self.p, self.idx
+        step.p_c_old = p_c_old = p[idx]
+        p_c_new = t_c * -self.tau  # p_c_old - tau t_c with one temporary
         p_c_new += p_c_old
-        stays = p_c_new > floor
-        all_stay = bool(stays.all())
-        g = self.g
-        # g = h + u (- delta); overlapping = non-contact nodes with a negative gap.
+        step.p_c_new = p_c_new
+        step.stays = p_c_new > self.floor
+        del p_c_new  # (the record holds it: the rebuild frees it)
+        all_stay = bool(step.stays.all())
+        level, any_overlap = self._full_gap()
+        self.conjugate = not any_overlap
+        out_changed = self._outside_stresses(step)
+        defer = self._defer_smooth_change(step.out_new, out_changed, not any_overlap and all_stay)
+        changed = any_overlap or (out_changed and not defer) or not all_stay
+        step.changed = changed
+        if changed:
+            self.out_error = 0.0  # the rebuild below applies every outside stress
+            t_c = self._rebuild_sets(t_c, level, any_overlap, step)
+        else:
+            p[idx] = step.p_c_new
+            step.out_new = None
+            step.diff = float(xp.abs(self.tau * t_c).sum()) if not self.force_control else None
+        self.stable = 0 if changed else self.stable + 1
+        self.t_c = t_c
+
+    def _full_gap(self):
+        """Step 5: the gap of every node into ``self.g`` and the overlapping nodes (non-contact
+        nodes with a negative gap) into ``self.ovmask``; g = h + u (- delta).
+
+        Returns
+        -------
+        level : float
+            What remains to subtract from ``self.g`` for the gap (m): the approach under force
+            control without an outside law, else 0.
+        any_overlap : bool
+            Whether a node overlaps.
+        """
+        xp, g, idx = self.xp, self.g, self.idx
         if self.force_control:
             xp.add(self.u, self.h, out=g)
             level = self.delta
@@ -582,20 +736,49 @@ class _CGState(IterativeSolver):
         else:
             xp.less(g, level, out=overlap)  # g - level < 0
             overlap[idx] = False
-        any_overlap = bool(overlap.any())
-        self.conjugate = not any_overlap
-        if self.has_outside:
-            out_new = self.inter.outside_stress(g, xp)
-            out_new[idx] = p_c_old  # compare only the non-contact nodes below
-            out_changed = not bool(xp.array_equal(out_new, p))
-        else:
-            out_new, out_changed = None, False
-        # A smooth change of the outside stresses (no node changes piece of the law, see
-        # interactions.base) is deferred while the CG on the frozen outside load is still
-        # making progress, and applied (with a restart: the load changed) once the CG has
-        # converged to the level of the outside mismatch: applying it at every iteration
-        # restarts the CG every iteration (steepest descent), and applying it while keeping
-        # the conjugate directions stalled them.  Convergence requires the mismatch to vanish.
+        return level, bool(overlap.any())
+
+    def _outside_stresses(self, step):
+        """Step 5: the outside stress of every node's gap, into ``step.out_new`` (Pa; None
+        without an outside law), with the contact's old pressure on the contact nodes.
+
+        Returns
+        -------
+        bool
+            Whether the outside stress of a non-contact node changed.
+        """
+        if not self.has_outside:
+            step.out_new = None
+            return False
+        out_new = self.inter.outside_stress(self.g, self.xp)
+        out_new[self.idx] = step.p_c_old  # compare only the non-contact nodes below
+        step.out_new = out_new
+        return not bool(self.xp.array_equal(out_new, self.p))
+
+    def _defer_smooth_change(self, out_new, out_changed, settled):
+        """Step 5: whether to defer a smooth change of the outside stresses.
+
+        A smooth change (no node changes piece of the law, see interactions.base) is deferred
+        while the CG on the frozen outside load is still making progress, and applied (with a
+        restart: the load changed) once the CG has converged to the level of the outside
+        mismatch: applying it at every iteration restarts the CG every iteration (steepest
+        descent), and applying it while keeping the conjugate directions stalled them.
+        Convergence requires the mismatch ``self.out_error`` (set here) to vanish.
+
+        Parameters
+        ----------
+        out_new : array or None
+            The new outside stresses (Pa), :meth:`_outside_stresses`.
+        out_changed : bool
+            Whether an outside stress of a non-contact node changed.
+        settled : bool
+            No node overlaps and every contact node stays.
+
+        Returns
+        -------
+        bool
+        """
+        xp, p, g = self.xp, self.p, self.g
         smooth = False
         self.out_error = 0.0
         if self.branch_fn is not None:
@@ -603,124 +786,213 @@ class _CGState(IterativeSolver):
             if out_changed and self.branch is not None:
                 smooth = not bool(xp.any((branch != self.branch) & ~self.cflat))
             self.branch = branch
-        defer = False
-        if smooth and not any_overlap and all_stay:
-            work = g  # the gap is not needed any more (no overlap)
-            xp.subtract(out_new, p, out=work)
-            xp.abs(work, out=work)
-            norm = float(xp.abs(p).sum())
-            self.out_error = float(work.sum()) / norm if norm > 0 else float(work.sum())
-            defer = self.error > DEFER_RATIO * self.out_error
-        changed = any_overlap or (out_changed and not defer) or not all_stay
-        if changed:
-            self.out_error = 0.0  # the rebuild below applies every outside stress
+        if not (smooth and settled):
+            return False
+        work = g  # the gap is not needed any more (no overlap)
+        xp.subtract(out_new, p, out=work)
+        xp.abs(work, out=work)
+        norm = float(xp.abs(p).sum())
+        self.out_error = float(work.sum()) / norm if norm > 0 else float(work.sum())
+        return self.error > DEFER_RATIO * self.out_error
 
-        sparse = None
-        w_change = W_old = None
-        if not changed:
-            p[idx] = p_c_new
-            diff = float(xp.abs(tau * t_c).sum()) if not self.force_control else None
+    def _rebuild_sets(self, t_c, level, any_overlap, step):
+        """Step 5 after a status change: rebuild the sets and their pressures.
+
+        Leavers take the outside stress of their gap, overlapping nodes enter with
+        p = s(g) - tau g (Paper A Eq. 21).  Only these nodes, the contact and the non-contact
+        nodes whose outside stress changed get a new pressure: ``step.moved_nodes`` lists the
+        non-contact ones, ``step.p_moved_old`` their old pressure.  Sets ``step.old_idx``,
+        ``step.sparse`` and ``step.w_change`` (few changed nodes: their columns of K) and
+        restarts the CG.
+
+        Parameters
+        ----------
+        t_c : array
+            The search direction on the old contact nodes.
+        level : float
+            What remains to subtract from ``self.g`` for the gap (m), :meth:`_full_gap`.
+        any_overlap : bool
+            Whether a node overlaps.
+        step : _Step
+            The iteration's record.
+
+        Returns
+        -------
+        array
+            The search direction on the new contact nodes (0 on the entering ones).
+        """
+        xp, p, idx = self.xp, self.p, self.idx
+        step.old_idx = idx
+        ov = g_ov = None
+        if any_overlap:
+            ov = xp.flatnonzero(self.ovmask)
+            g_ov = self.g[ov] - level if level != 0.0 else self.g[ov]
+        step.moved_nodes = moved_nodes = self._moved_nodes(step.out_new, ov)
+        step.p_moved_old = p[moved_nodes]
+        # The new pressure differs from the incremental one p - tau t on the leavers and
+        # the moved nodes only (before the force balance): few of them -> kernel columns.
+        leave = ~step.stays
+        use_sparse = int(xp.count_nonzero(leave)) + len(moved_nodes) <= self.sparse_max
+        if use_sparse:
+            leavers = idx[leave]
+            p_leavers_inc = step.p_c_new[leave]
         else:
-            # Rebuild the sets: leavers take the outside stress of their gap, overlapping
-            # nodes enter with p = s(g) - tau g (Paper A Eq. 21).  Only these nodes, the
-            # contact and the non-contact nodes whose outside stress changed get a new
-            # pressure: ``moved`` lists the non-contact ones, with their old pressure.
-            old_idx = idx
-            if any_overlap:
-                ov = xp.flatnonzero(overlap)
-                g_ov = g[ov] - level if level != 0.0 else g[ov]
-            if out_new is not None:
-                out_moved = out_new != p
-                if any_overlap:
-                    out_moved |= overlap
-                moved_nodes = xp.flatnonzero(out_moved)
-                del out_moved
-            else:
-                moved_nodes = ov if any_overlap else idx[:0]
-            p_moved_old = p[moved_nodes]
-            # The new pressure differs from the incremental one p - tau t on the leavers and
-            # the moved nodes only (before the force balance): few of them -> kernel columns.
-            leave = ~stays
-            n_sparse = int(xp.count_nonzero(leave)) + len(moved_nodes)
-            use_sparse = n_sparse <= self.sparse_max
-            if use_sparse:
-                leavers = idx[leave]
-                p_leavers_inc = p_c_new[leave]
-            else:
-                r = None  # an exact recomputation follows: free K t now
-            if out_new is not None:
-                p[moved_nodes] = out_new[moved_nodes]  # elsewhere out_new equals p already
-            del out_new
-            # leavers take the stress s0 (0 without an outside law); in place, no temporary
-            xp.copyto(p_c_new, self.s0[idx] if self.has_outside else self.s0, where=leave)
-            del leave
-            p[idx] = p_c_new
-            p_c_new = None
-            cm = self.cflat
-            cm[idx] = stays
-            if any_overlap:
-                # Paper A Eq. 21 with the step length; with no step this iteration (a contact gap
-                # at round-off level, tau = 0) with a node's own stiffness 1 / K_00, as before any
-                # contact: else the node enters at its outside stress with its overlap left, the
-                # pressure does not change and convergence is declared on a penetrating state
-                p[ov] -= (tau if tau > 0.0 else self.tau0) * g_ov
-                cm[ov] = True
-            if use_sparse:
-                sparse = (xp.concatenate((leavers, moved_nodes)),
-                          xp.concatenate((p[leavers] - p_leavers_inc, p[moved_nodes] - p_moved_old)))
-            # Keep the search direction of the nodes that stay (0 on the entering ones), for
-            # the next conjugate step; g is free now and serves as the scatter buffer.
-            self.idx = idx = xp.flatnonzero(cm)
-            g[idx] = 0.0
-            g[old_idx] = t_c
-            t_c = g[idx]
-            # W = K(p_out + floor 1_C) of the new sets: the old one plus the columns of the
-            # changed nodes (leavers: floor -> outside stress; entering: outside stress ->
-            # floor; moved: old -> new outside stress), when there are few and it was known
-            W_old, self.W = self.W, None
-            if use_sparse and W_old is not None and not isinstance(W_old, float):
-                entering = cm[moved_nodes]
-                w_new = xp.where(entering, floor, p[moved_nodes])
-                w_change = (xp.concatenate((leavers, moved_nodes)),
-                            xp.concatenate((p[leavers] - floor, w_new - p_moved_old)))
-            self.conjugate = False  # the problem changed: restart from steepest descent
-        self.stable = 0 if changed else self.stable + 1
-        self.t_c = t_c
+            step.r = None  # an exact recomputation follows: free K t now
+        self._set_pressure(leave, ov, g_ov, step)
+        del leave
+        if use_sparse:
+            step.sparse = (xp.concatenate((leavers, moved_nodes)),
+                           xp.concatenate((p[leavers] - p_leavers_inc, p[moved_nodes] - step.p_moved_old)))
+        t_c = self._carry_direction(t_c, step.old_idx)
+        # W = K(p_out + floor 1_C) of the new sets: the old one plus the columns of the
+        # changed nodes (leavers: floor -> outside stress; entering: outside stress ->
+        # floor; moved: old -> new outside stress), when there are few and it was known
+        W_old, self.W = self.W, None
+        if use_sparse and W_old is not None and not isinstance(W_old, float):
+            entering = self.cflat[moved_nodes]
+            w_new = xp.where(entering, self.floor, p[moved_nodes])
+            step.w_change = (xp.concatenate((leavers, moved_nodes)),
+                             xp.concatenate((p[leavers] - self.floor, w_new - step.p_moved_old)))
+            step.W_old = W_old
+        self.conjugate = False  # the problem changed: restart from steepest descent
+        return t_c
 
-        # Step 6: force balance by scaling p - floor on the contact nodes.
-        scale = 1.0
-        if self.force_control:
-            n_new = len(idx)
-            if n_new == 0:
-                self.u_exact = False
-                return "no node is in contact: the load is beyond pull-off (no equilibrium under force control)"
-            p_c = p[idx]
-            total = float(p.sum()) if self.has_outside else float(p_c.sum())
-            free = float(p_c.sum()) - floor * n_new
-            fixed = total - float(p_c.sum())
-            scale = (self.target - fixed - floor * n_new) / free if free > 0 else -1.0
-            if scale <= 0:
-                self.u_exact = False
-                return ("the contact cannot carry the requested force: the load is beyond "
-                        "pull-off (no equilibrium under force control)")
-            new_c = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
-            if abs(scale - 1.0) > 1e-6:
-                # A rescale (e.g. the first step after a load change) moves every gap: the
-                # old conjugate direction no longer belongs to this problem.
-                self.conjugate = False
-            if not changed:  # same nodes: the change includes the force-balance rescale
-                diff = float(xp.abs(new_c - p_c_old).sum())
-            p[idx] = new_c
+    def _moved_nodes(self, out_new, ov):
+        """Step 5: the non-contact nodes whose pressure changes: the overlapping ones and those
+        whose outside stress changed.
 
-        # Relative pressure change (Paper A Eq. 23, made relative): after a status change
-        # the pressure changed on the old contact and the moved nodes only.
-        if changed:
-            dp = p[old_idx]
-            dp -= p_c_old
+        Parameters
+        ----------
+        out_new : array or None
+            The new outside stresses (Pa), :meth:`_outside_stresses`.
+        ov : array or None
+            Flat indices of the overlapping nodes (None: none overlaps).
+
+        Returns
+        -------
+        array
+            Their flat indices.
+        """
+        xp = self.xp
+        if out_new is None:
+            return ov if ov is not None else self.idx[:0]
+        out_moved = out_new != self.p
+        if ov is not None:
+            out_moved |= self.ovmask
+        return xp.flatnonzero(out_moved)
+
+    def _set_pressure(self, leave, ov, g_ov, step):
+        """Step 5 after a status change: the new pressures and contact mask.
+
+        The moved nodes take their new outside stress, the leavers the stress s0 of a node
+        that just left, the staying contact nodes their CG update and the overlapping nodes
+        enter (Paper A Eq. 21).  Frees ``step.out_new`` and ``step.p_c_new``.
+
+        Parameters
+        ----------
+        leave : array of bool
+            The contact nodes that leave (on ``self.idx``).
+        ov : array or None
+            Flat indices of the overlapping nodes (None: none overlaps).
+        g_ov : array or None
+            Their gap (m).
+        step : _Step
+            The iteration's record.
+        """
+        xp, p, idx = self.xp, self.p, self.idx
+        if step.out_new is not None:
+            p[step.moved_nodes] = step.out_new[step.moved_nodes]  # elsewhere out_new equals p already
+        step.out_new = None
+        # leavers take the stress s0 (0 without an outside law); in place, no temporary
+        xp.copyto(step.p_c_new, self.s0[idx] if self.has_outside else self.s0, where=leave)
+        p[idx] = step.p_c_new
+        step.p_c_new = None
+        cm = self.cflat
+        cm[idx] = step.stays
+        if ov is not None:
+            # Paper A Eq. 21 with the step length; with no step this iteration (a contact gap
+            # at round-off level, tau = 0) with a node's own stiffness 1 / K_00, as before any
+            # contact: else the node enters at its outside stress with its overlap left, the
+            # pressure does not change and convergence is declared on a penetrating state
+            p[ov] -= (self.tau if self.tau > 0.0 else self.tau0) * g_ov
+            cm[ov] = True
+
+    def _carry_direction(self, t_c, old_idx):
+        """Step 5 after a status change: the new contact nodes ``self.idx`` from the mask, and
+        the search direction of the nodes that stay (0 on the entering ones), for the next
+        conjugate step; ``self.g`` is free now and serves as the scatter buffer.
+
+        Parameters
+        ----------
+        t_c : array
+            The search direction on the old contact nodes ``old_idx``.
+        old_idx : array
+            The old contact nodes (flat indices).
+
+        Returns
+        -------
+        array
+            The search direction on the new contact nodes.
+        """
+        g = self.g
+        self.idx = idx = self.xp.flatnonzero(self.cflat)
+        g[idx] = 0.0
+        g[old_idx] = t_c
+        return g[idx]
+
+    def _balance_force(self, step):
+        """Step 6: force balance by scaling p - floor on the contact nodes (force control).
+
+        Sets ``step.scale`` and, without a status change, ``step.diff`` (the change includes
+        the rescale).
+
+        Returns
+        -------
+        str or None
+            A message when the contact cannot carry the force (no equilibrium), else None.
+        """
+        if not self.force_control:
+            return None
+        xp, p, idx, floor = self.xp, self.p, self.idx, self.floor
+        n_new = len(idx)
+        if n_new == 0:
+            self.u_exact = False
+            return _NO_CONTACT
+        p_c = p[idx]
+        total = float(p.sum()) if self.has_outside else float(p_c.sum())
+        free = float(p_c.sum()) - floor * n_new
+        fixed = total - float(p_c.sum())
+        scale = (self.target - fixed - floor * n_new) / free if free > 0 else -1.0
+        if scale <= 0:
+            self.u_exact = False
+            return ("the contact cannot carry the requested force: the load is beyond "
+                    "pull-off (no equilibrium under force control)")
+        new_c = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
+        if abs(scale - 1.0) > 1e-6:
+            # A rescale (e.g. the first step after a load change) moves every gap: the
+            # old conjugate direction no longer belongs to this problem.
+            self.conjugate = False
+        if not step.changed:  # same nodes: the change includes the force-balance rescale
+            step.diff = float(xp.abs(new_c - step.p_c_old).sum())
+        p[idx] = new_c
+        step.scale = scale
+        return None
+
+    def _measure_change(self, step):
+        """Relative pressure change ``self.error`` (Paper A Eq. 23, made relative); after a
+        status change the pressure changed on the old contact and the moved nodes only.
+        Restarts the CG when the pressure stopped moving while gaps stay open."""
+        xp, p = self.xp, self.p
+        if step.changed:
+            dp = p[step.old_idx]
+            dp -= step.p_c_old
             xp.abs(dp, out=dp)
-            diff = float(dp.sum()) + float(xp.abs(p[moved_nodes] - p_moved_old).sum())
-            del dp, old_idx, moved_nodes, p_moved_old
-        norm = float(xp.abs(p).sum()) if (self.has_outside or floor != 0.0) else float(p[idx].sum())
+            diff = float(dp.sum()) + float(xp.abs(p[step.moved_nodes] - step.p_moved_old).sum())
+            del dp
+            step.old_idx = step.moved_nodes = step.p_moved_old = None
+        else:
+            diff = step.diff
+        norm = float(xp.abs(p).sum()) if (self.has_outside or self.floor != 0.0) else float(p[self.idx].sum())
         self.error = diff / norm if norm > 0 else diff
         if self.error < 1e-3 * self.gap_residual:
             # The pressure has stopped moving while gaps stay open: the conjugate direction
@@ -728,51 +1000,68 @@ class _CGState(IterativeSolver):
             # undoes); restart from steepest descent.
             self.conjugate = False
 
-        # Free the contact-set temporaries before a convolution allocates its arrays (the
-        # first iteration of a uniform start has every node in contact).
-        p_c_old = p_c_new = stays = p_c = new_c = None  # noqa: F841
+    def _update_displacement(self, step):
+        """The new displacement u = K p: incremental while nothing changed status, else exact
+        or, when few nodes changed, incremental plus their columns of K.
 
-        # New displacement: incremental while nothing changed status, else exact or, when
-        # few nodes changed, incremental plus their columns of K.
-        #   u <- s (u - tau K t + K d) + (1 - s) W,  W = K(p_out + floor 1_C)
+            u <- s (u - tau K t + K d) + (1 - s) W,  W = K(p_out + floor 1_C)
+        """
         self.since_exact += 1
+        r, step.r = step.r, None
+        scale = step.scale
         moved = r is not None or scale != 1.0
-        if not changed and self.since_exact < self.refresh:
+        if not step.changed and self.since_exact < self.refresh:
             if moved:
-                u = self.u
-                if r is not None:
-                    r *= -tau
-                    u += r
+                self._add_step(r)
                 if scale != 1.0:
-                    u *= scale
-                    W = self._W()
-                    if not isinstance(W, float):
-                        u += (1.0 - scale) * W
+                    self._rescale_displacement(scale)
                 self.u_exact = False
-        elif changed and sparse is not None and self.since_exact < self.refresh:
-            u = self.u
-            if r is not None:
-                r *= -tau
-                u += r
+        elif step.changed and step.sparse is not None and self.since_exact < self.refresh:
+            self._add_step(r)
             del r
-            if self.columns is None:
-                self.columns = KernelColumns.of(op, self.spec_buf)
-            self.columns.add(u.reshape(self.shape), sparse[0], sparse[1], self.g.reshape(self.shape))
-            self.n_columns += len(sparse[0])
-            if w_change is not None:
-                # the unscaled part's displacement of the new sets, from the old one (few columns)
-                self.columns.add(W_old.reshape(self.shape), w_change[0], w_change[1], self.g.reshape(self.shape))
-                self.W = W_old
-                self.n_columns += len(w_change[0])
+            self._add_columns(step)
             if scale != 1.0:
                 # u <- s K p + (1 - s) W of the new sets (W: updated above, or one convolution)
-                u *= scale
-                W = 0.0 if self.w_zero else self._W()
-                if not isinstance(W, float):
-                    u += (1.0 - scale) * W
+                self._rescale_displacement(scale, skip_w=self.w_zero)
             self.n_sparse += 1
             self.u_exact = False
-        elif changed or moved:
+        elif step.changed or moved:
             del r
             self.make_exact()
-        return None
+
+    def _add_step(self, r):
+        """u <- u - tau K t in place (r = K t, overwritten; None: no step)."""
+        if r is not None:
+            r *= -self.tau
+            self.u += r
+
+    def _rescale_displacement(self, scale, skip_w=False):
+        """u <- s u + (1 - s) W in place, W = K(p_out + floor 1_C) (m, :meth:`_W`).
+
+        Parameters
+        ----------
+        scale : float
+            The force balance's scale s (step 6).
+        skip_w : bool
+            Take W = 0 without consulting :meth:`_W` (W is known to vanish).
+        """
+        u = self.u
+        u *= scale
+        W = 0.0 if skip_w else self._W()
+        if not isinstance(W, float):
+            u += (1.0 - scale) * W
+
+    def _add_columns(self, step):
+        """Add the columns of K of the few nodes whose pressure changed to u (``step.sparse``)
+        and, when known, to W of the old sets (``step.w_change``: W of the new sets)."""
+        if self.columns is None:
+            self.columns = KernelColumns.of(self.op, self.spec_buf)
+        nodes, values = step.sparse
+        self.columns.add(self.u.reshape(self.shape), nodes, values, self.g.reshape(self.shape))
+        self.n_columns += len(nodes)
+        if step.w_change is not None:
+            # the unscaled part's displacement of the new sets, from the old one (few columns)
+            nodes, values = step.w_change
+            self.columns.add(step.W_old.reshape(self.shape), nodes, values, self.g.reshape(self.shape))
+            self.W = step.W_old
+            self.n_columns += len(nodes)

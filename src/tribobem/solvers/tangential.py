@@ -84,6 +84,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 
@@ -168,6 +169,44 @@ def _as_pair(value, name: str):
     if not (math.isfinite(a) and math.isfinite(b)):
         raise InputError(name, f"must be finite, got {value!r}")
     return np.array([a, b])
+
+
+class _TangentialProblem(NamedTuple):
+    """Checked inputs and start of a tangential solve (see :func:`_tangential_problem`).
+
+    The node arrays are on the compressive contact C+ (``contact``), in the order of ``idx``.
+    """
+
+    mu: float
+    """Friction coefficient (>= 0)."""
+    preconditioner: str
+    """Preconditioner of TangCG, ``"fft"`` or ``"diagonal"`` (the default resolved)."""
+    pressure: object
+    """Normal traction p (Pa), a backend array of ``grid.shape``."""
+    contact: object
+    """Compressive contact C+: the given contact mask & (p > 0)."""
+    idx: object
+    """Flat grid indices of the nodes of C+."""
+    bound: object
+    """Friction-disc radii mu p (Pa) on C+."""
+    capacity: float
+    """mu F0+ (N), the largest tangential force with an equilibrium."""
+    pressure_displacement: tuple
+    """(K_xz p, K_yz p) (m) on the full grid, or (None, None) without normal-tangential coupling."""
+    reference: object
+    """Incremental mode: the reference relative displacement (m), shape (2, nx, ny); else None."""
+    v0: object
+    """Fixed part of the slip K_tz p - s_ref (m), shape (2, n_c)."""
+    force_control: bool
+    """True when the force is given, False when the displacement is."""
+    target: object
+    """Force control: the target sum of q (Pa), F / cell area; else None."""
+    delta: object
+    """Initial rigid shift (m): 0 under force control, the given displacement otherwise."""
+    displacement: object
+    """Displacement control: the given (delta_x, delta_y) (m); else None."""
+    shear: object
+    """Initial shear q (Pa), shape (2, n_c), inside the friction discs."""
 
 
 def solve_tangential(
@@ -261,7 +300,44 @@ def solve_tangential(
     """
     t_start = time.perf_counter()
     top = tangential_operator(operator)
-    xp, be, grid = top.xp, top.be, top.grid
+    prob = _tangential_problem(
+        top, pressure, contact, friction_coefficient=friction_coefficient, force=force,
+        displacement=displacement, reference=reference, initial_shear=initial_shear,
+        initial_stick=initial_stick, pressure_displacement=pressure_displacement, tol=tol,
+        method=method, preconditioner=preconditioner, max_iterations=max_iterations)
+    kii = np.array(top.self_compliance)
+    st = _Tangential(top, prob.idx, prob.bound, prob.v0, prob.shear, prob.delta, prob.force_control,
+                     prob.target, kii, top.lipschitz)
+    # Slip scale (m): displacement of full slip along x.
+    s_scale = float(slip_scale) if slip_scale is not None and slip_scale > 0 else st.slip_scale()
+    converged, message, history = _run_solvers(st, prob.mu, s_scale, tol=tol, max_iterations=max_iterations,
+                                               stall=stall, method=method, preconditioner=prob.preconditioner)
+    return _tangential_result(top, prob, st, converged, message, history, s_scale=s_scale, method=method,
+                              strict=strict, full_fields=full_fields, t_start=t_start)
+
+
+def _check_options(friction_coefficient, force, displacement, tol, method, preconditioner, max_iterations):
+    """Check the scalar arguments of :func:`solve_tangential`.
+
+    Parameters
+    ----------
+    friction_coefficient, force, displacement, tol, method, preconditioner, max_iterations
+        As for :func:`solve_tangential`.
+
+    Returns
+    -------
+    mu : float
+        The friction coefficient.
+    force, displacement : ndarray, shape (2,), or None
+        (x, y) of the given load (N, resp. m); the other one None.
+    preconditioner : str
+        The preconditioner, :data:`DEFAULT_PRECONDITIONER` for None.
+
+    Raises
+    ------
+    InputError
+        Bad friction coefficient, load, tolerance, method, preconditioner or iteration limit.
+    """
     mu = friction_coefficient
     if isinstance(mu, (bool, np.bool_)) or not isinstance(mu, (int, float, np.integer, np.floating)) \
             or not math.isfinite(mu) or mu < 0:
@@ -282,36 +358,131 @@ def solve_tangential(
                          f"must be 'diagonal' or 'fft', got {preconditioner!r}")
     if not isinstance(max_iterations, (int, np.integer)) or max_iterations < 1:
         raise InputError("solve_tangential.max_iterations", f"must be an integer >= 1, got {max_iterations!r}")
+    return mu, F, D, preconditioner
+
+
+def _tangential_problem(top, pressure, contact, *, friction_coefficient, force, displacement, reference,
+                        initial_shear, initial_stick, pressure_displacement, tol, method, preconditioner,
+                        max_iterations) -> _TangentialProblem:
+    """Check the inputs of :func:`solve_tangential` and build its start.
+
+    Parameters
+    ----------
+    top : TangentialOperator
+        The elasticity of the tangential problem.
+    pressure, contact, friction_coefficient, force, displacement, reference, initial_shear, ...
+        As for :func:`solve_tangential` (all its arguments but ``operator``, ``strict``, ``stall``,
+        ``slip_scale`` and ``full_fields``).
+
+    Returns
+    -------
+    _TangentialProblem
+
+    Raises
+    ------
+    GrossSlipError
+        Under force control when |F| >= mu F0+, or a nonzero force without compressive contact.
+    InputError
+        Bad friction coefficient, load, shapes or non-finite values.
+    """
+    xp, grid = top.xp, top.grid
+    mu, F, D, preconditioner = _check_options(friction_coefficient, force, displacement, tol, method,
+                                              preconditioner, max_iterations)
     p = xp.asarray(pressure, dtype=float)
     if p.shape != grid.shape:
         raise InputError("pressure", f"shape {tuple(p.shape)} does not match the grid {grid.shape}")
     if not bool(xp.all(xp.isfinite(p))):
         raise InputError("pressure", "contains NaN or infinite values")
+    # The compressive contact C+ carries the shear (none in the adhesive zone, Paper D).
     cmask = xp.asarray(contact, dtype=bool) & (p > 0)
-    mode = "total" if reference is None else "incremental"
-    cell = grid.cell_area
     idx = xp.flatnonzero(cmask.ravel())
-    n_c = int(idx.size)
     bound = mu * p.ravel()[idx]  # friction-disc radii (Pa)
-    capacity = float(bound.sum()) * cell  # mu F0+ (N)
+    capacity = float(bound.sum()) * grid.cell_area  # mu F0+ (N)
+    (wx, wy), ref_full, v0 = _fixed_slip(top, p, idx, reference, pressure_displacement)
+    force_control, target, delta = _load(F, D, int(idx.size), capacity, mu, grid.cell_area)
+    q = _initial_shear(xp, grid, idx, bound, initial_shear, initial_stick, F, capacity)
+    return _TangentialProblem(mu, preconditioner, p, cmask, idx, bound, capacity, (wx, wy), ref_full, v0,
+                              force_control, target, delta, D, q)
 
-    # Fixed part of the slip: K_tz p - s_ref (m), on the contact nodes.
+
+def _fixed_slip(top, p, idx, reference, pressure_displacement):
+    """The fixed part of the slip, K_tz p - s_ref, on the contact nodes.
+
+    Parameters
+    ----------
+    top : TangentialOperator
+        The elasticity of the tangential problem.
+    p : array
+        Normal traction (Pa), ``grid.shape``.
+    idx : array of int
+        Flat grid indices of the contact nodes.
+    reference, pressure_displacement
+        As for :func:`solve_tangential`.
+
+    Returns
+    -------
+    pressure_displacement : (array, array) or (None, None)
+        K_xz p, K_yz p (m) on the full grid; (None, None) without normal-tangential coupling
+        and none given.
+    reference : array or None
+        The reference relative displacement (m), shape (2, nx, ny), in the incremental mode.
+    v0 : array, shape (2, n_c)
+        K_tz p - s_ref (m) on the contact nodes.
+
+    Raises
+    ------
+    InputError
+        ``reference`` of the wrong shape.
+    """
+    xp, grid = top.xp, top.grid
     if pressure_displacement is None:
         wx, wy = top.from_pressure(p) if top.coupled else (None, None)
     else:
         wx, wy = (xp.asarray(a, dtype=float) for a in pressure_displacement)
-    v0 = xp.zeros((2, n_c))
+    v0 = xp.zeros((2, int(idx.size)))
     if wx is not None:
         v0[0] = wx.ravel()[idx]
         v0[1] = wy.ravel()[idx]
     ref_full = None
     if reference is not None:
+        # Incremental mode (Paper E Eq. 5): the slip is measured from the previous step.
         ref_full = xp.asarray(reference, dtype=float)
         if ref_full.shape != (2,) + grid.shape:
             raise InputError("reference", f"shape {tuple(ref_full.shape)} must be (2, {grid.nx}, {grid.ny})")
         v0[0] -= ref_full[0].ravel()[idx]
         v0[1] -= ref_full[1].ravel()[idx]
+    return (wx, wy), ref_full, v0
 
+
+def _load(F, D, n_c: int, capacity: float, mu: float, cell: float):
+    """The load of the solve: force control with its target, or the given rigid shift.
+
+    Parameters
+    ----------
+    F, D : ndarray, shape (2,), or None
+        The given force (N) or displacement (m), exactly one not None.
+    n_c : int
+        Number of compressive contact nodes.
+    capacity : float
+        mu F0+ (N).
+    mu : float
+        Friction coefficient.
+    cell : float
+        Cell area (m^2).
+
+    Returns
+    -------
+    force_control : bool
+    target : ndarray, shape (2,), or None
+        Force control: the target sum of q (Pa); else None.
+    delta : ndarray, shape (2,)
+        Initial rigid shift (m): zero under force control, a copy of ``D`` otherwise.
+
+    Raises
+    ------
+    GrossSlipError
+        A force at or beyond mu F0+ (gross sliding: no equilibrium).
+    """
     force_control = F is not None
     if force_control:
         Fmag = float(np.hypot(*F))
@@ -326,9 +497,40 @@ def solve_tangential(
     else:
         target = None
         delta = D.copy()
+    return force_control, target, delta
 
-    # Initial shear: warm start projected onto the discs, else zero (all nodes stick).
-    q = xp.zeros((2, n_c))
+
+def _initial_shear(xp, grid, idx, bound, initial_shear, initial_stick, F, capacity: float):
+    """The initial shear: the warm start projected onto the discs, else zero (all nodes stick).
+
+    Parameters
+    ----------
+    xp : module
+        The backend's array module.
+    grid : Grid
+        The grid.
+    idx : array of int
+        Flat grid indices of the contact nodes.
+    bound : array
+        Friction-disc radii mu p (Pa) of the contact nodes.
+    initial_shear, initial_stick
+        As for :func:`solve_tangential`.
+    F : ndarray, shape (2,), or None
+        The given force (N) under force control, else None.
+    capacity : float
+        mu F0+ (N).
+
+    Returns
+    -------
+    array, shape (2, n_c)
+        The shear q (Pa) on the contact nodes, inside (or on the rim of) the friction discs.
+
+    Raises
+    ------
+    InputError
+        ``initial_shear`` or ``initial_stick`` of the wrong shape.
+    """
+    q = xp.zeros((2, int(idx.size)))
     if initial_shear is not None:
         q0 = xp.asarray(initial_shear, dtype=float)
         if q0.shape != (2,) + grid.shape:
@@ -339,24 +541,45 @@ def solve_tangential(
             st0 = xp.asarray(initial_stick, dtype=bool)
             if st0.shape != grid.shape:
                 raise InputError("initial_stick", f"shape {tuple(st0.shape)} must be ({grid.nx}, {grid.ny})")
+            # Warm-start slip nodes onto the rim of their (new) disc, in their traction's direction.
             slip0 = ~st0.ravel()[idx]
             mag0 = xp.sqrt(q[0] ** 2 + q[1] ** 2)
             on_rim = slip0 & (mag0 > 0)
             f = xp.where(on_rim, bound / xp.where(mag0 > 0, mag0, 1.0), 1.0)
             q *= f
         _project(xp, q, bound)
-    elif force_control and capacity > 0:
+    elif F is not None and capacity > 0:
         # Admissible start with the right force: q = (F / mu F0+) mu p, all nodes stick.
+        cell = grid.cell_area
         q[0] = bound * (F[0] * cell / capacity)
         q[1] = bound * (F[1] * cell / capacity)
-    kii = np.array(top.self_compliance)
+    return q
 
-    st = _Tangential(top, idx, bound, v0, q, delta, force_control, target, kii, top.lipschitz)
-    # Slip scale (m): displacement of full slip along x.
-    s_scale = float(slip_scale) if slip_scale is not None and slip_scale > 0 else st.slip_scale()
+
+def _run_solvers(st, mu: float, s_scale: float, *, tol, max_iterations, stall, method, preconditioner):
+    """Iterate to the tolerance: TangCG, then (or only) the accelerated projected gradient.
+
+    Parameters
+    ----------
+    st : _Tangential
+        The working state, updated in place (its ``cg_iterations`` set after TangCG).
+    mu : float
+        Friction coefficient.
+    s_scale : float
+        Slip scale (m) of the complementarity residual.
+    tol, max_iterations, stall, method, preconditioner
+        As for :func:`solve_tangential` (``preconditioner`` resolved).
+
+    Returns
+    -------
+    converged : bool
+    message : str
+    history : list of float
+        The residual history of both solvers.
+    """
     history: list[float] = []
     converged, message = False, ""
-    if n_c == 0:
+    if st.n == 0:
         converged, message = True, "no compressive contact: no shear"
     elif mu == 0.0:
         converged, message = True, "frictionless (mu = 0): no shear"
@@ -378,57 +601,123 @@ def solve_tangential(
             out = run_iterations(_ProjectedGradient(st, s_scale, message), tol=tol, max_iterations=max_iterations,
                                  stall=stall, history=history, first=used + 1)
             converged, message = out.converged, out.message
+    return converged, message, history
 
-    # Final fields (full grid), consistent with the returned shear.
+
+def _final_fields(top, prob: _TangentialProblem, st, full_fields: bool):
+    """The full-grid fields of the result, consistent with the final shear.
+
+    Parameters
+    ----------
+    top : TangentialOperator
+        The elasticity of the tangential problem.
+    prob : _TangentialProblem
+        The checked inputs.
+    st : _Tangential
+        The final working state.
+    full_fields : bool
+        As for :func:`solve_tangential` (False: slip and relative displacement NaN).
+
+    Returns
+    -------
+    shear : (array, array)
+        q_x, q_y (Pa), ``grid.shape``.
+    slip, relative : (array, array)
+        The slip and the relative displacement u1 - u2 - delta (m), ``grid.shape`` each.
+    delta : ndarray, shape (2,)
+        The rigid shift (m).
+    stick : array of bool
+        The stick mask, ``grid.shape``.
+    """
+    xp, grid, idx = top.xp, top.grid, prob.idx
     qx = xp.zeros(grid.size if hasattr(grid, "size") else grid.nx * grid.ny)
     qy = xp.zeros_like(qx)
     qx[idx] = st.q[0]
     qy[idx] = st.q[1]
     qx, qy = qx.reshape(grid.shape), qy.reshape(grid.shape)
-    delta = st.delta if force_control else D
+    delta = st.delta if prob.force_control else prob.displacement
     if full_fields:
+        wx, wy = prob.pressure_displacement
         ux, uy = top.shear_displacement(qx, qy)
         relx, rely = ux - delta[0], uy - delta[1]
         if wx is not None:
             relx = relx + wx
             rely = rely + wy
         slipx, slipy = relx, rely
-        if ref_full is not None:
-            slipx = relx - ref_full[0]
-            slipy = rely - ref_full[1]
+        if prob.reference is not None:
+            slipx = relx - prob.reference[0]
+            slipy = rely - prob.reference[1]
     else:
         relx = rely = slipx = slipy = xp.full(grid.shape, np.nan)
     stick = xp.zeros(grid.nx * grid.ny, dtype=bool)
     stick[idx] = st.stick
     stick = stick.reshape(grid.shape)
+    return (qx, qy), (slipx, slipy), (relx, rely), delta, stick
+
+
+def _tangential_result(top, prob: _TangentialProblem, st, converged: bool, message: str, history, *,
+                       s_scale: float, method: str, strict: bool, full_fields: bool,
+                       t_start: float) -> TangentialResult:
+    """Assemble the result of :func:`solve_tangential`; warn (or raise) when not converged.
+
+    Parameters
+    ----------
+    top : TangentialOperator
+        The elasticity of the tangential problem.
+    prob : _TangentialProblem
+        The checked inputs.
+    st : _Tangential
+        The final working state.
+    converged, message, history
+        The outcome of :func:`_run_solvers`.
+    s_scale : float
+        Slip scale (m) of the complementarity residual.
+    method, strict, full_fields
+        As for :func:`solve_tangential`.
+    t_start : float
+        ``time.perf_counter()`` at the start of the solve.
+
+    Returns
+    -------
+    TangentialResult
+        Host (NumPy) arrays.
+
+    Raises
+    ------
+    ConvergenceError
+        With ``strict``, when the solve did not converge.
+    """
+    (qx, qy), (slipx, slipy), (relx, rely), delta, stick = _final_fields(top, prob, st, full_fields)
+    cell, n_c = top.grid.cell_area, st.n
     fx = float(st.q[0].sum()) * cell
     fy = float(st.q[1].sum()) * cell
     gross = n_c > 0 and not bool(st.stick.any())
     if not converged:
-        report_failure(message, strict=strict, prefix="tangential solver: ", stacklevel=2)
-    tn = be.to_numpy
+        # stacklevel 3: this function <- solve_tangential <- its caller
+        report_failure(message, strict=strict, prefix="tangential solver: ", stacklevel=3)
+    tn = top.be.to_numpy
     return TangentialResult(
-        grid=grid,
+        grid=top.grid,
         shear=np.stack([tn(qx), tn(qy)]),
         slip=np.stack([tn(slipx), tn(slipy)]),
         relative_displacement=np.stack([tn(relx), tn(rely)]),
-        contact=tn(cmask),
+        contact=tn(prob.contact),
         stick=tn(stick),
         force_x=fx,
         force_y=fy,
         displacement_x=float(delta[0]),
         displacement_y=float(delta[1]),
-        friction_coefficient=float(mu),
-        mode=mode,
-        control="force" if force_control else "displacement",
+        friction_coefficient=float(prob.mu),
+        mode="total" if prob.reference is None else "incremental",
+        control="force" if prob.force_control else "displacement",
         iterations=len(history),
         residual_history=np.asarray(history),
         converged=converged,
         gross_slip=gross,
         time=time.perf_counter() - t_start,
         message=message,
-        info={"capacity": capacity, "slip_scale": s_scale, "convolutions": st.n_apply,
-              "preconditioner_convolutions": st.n_precondition, "preconditioner": preconditioner,
+        info={"capacity": prob.capacity, "slip_scale": s_scale, "convolutions": st.n_apply,
+              "preconditioner_convolutions": st.n_precondition, "preconditioner": prob.preconditioner,
               "restarts": st.restarts, "method": method,
               "convolution_box": (st._apply_box() or (None,))[0] if n_c else None,
               "tangcg_iterations": getattr(st, "cg_iterations", 0)},
