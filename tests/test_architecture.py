@@ -143,3 +143,26 @@ def test_the_checker_catches_a_cycle_and_an_upward_import():
     edges = {"tribobem.solvers.a": {"tribobem.runs.b"}, "tribobem.runs.b": {"tribobem.solvers.a"}}
     assert _cycles(set(edges), edges) == [["tribobem.runs.b", "tribobem.solvers.a"]]
     assert LAYERS[_layer_of("tribobem.solvers.a")] <= LAYERS[_layer_of("tribobem.runs.b")]
+
+
+# Tests mirror the package: a test of tribobem/<sub>/... lives in tests/<sub>/; the top of tests/
+# keeps the tests of the top-level modules (cli, units, errors) and the whole-project checks;
+# tests/benchmarks and tests/studies test the repository's scripts outside the package.
+TESTS = Path(__file__).resolve().parent
+PROJECT_TESTS = {"test_architecture.py", "test_cli.py", "test_docs.py", "test_examples.py", "test_fuzz.py",
+                 "test_interrupts.py", "test_units.py", "test_user_visible.py"}
+SCRIPT_FOLDERS = {"benchmarks", "studies"}
+
+
+def test_tests_mirror_the_package_folders():
+    subpackages = {p.name for p in SRC.iterdir() if p.is_dir() and (p / "__init__.py").exists()}
+    misplaced = []
+    for path in TESTS.rglob("test_*.py"):
+        folder = path.relative_to(TESTS).parts[0]
+        if path.parent == TESTS:
+            if path.name not in PROJECT_TESTS:
+                misplaced.append(str(path.relative_to(TESTS)))
+        elif folder not in subpackages | SCRIPT_FOLDERS:
+            misplaced.append(str(path.relative_to(TESTS)))
+    assert not misplaced, f"test files outside a folder named after a tribobem subpackage: {misplaced}"
+    assert len(list(TESTS.glob("test_*.py"))) == len(PROJECT_TESTS)

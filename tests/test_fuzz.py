@@ -864,7 +864,7 @@ HYSTERESIS_SPHERE = {
 #: Force-controlled pull-off with coarse steps and no bisection (a resolved Maugis-Dugdale sphere,
 #: lambda = 1.07, no result check fires): the force steps down from the preload by (preload +
 #: sigma0 x domain) / steps, so the first step (-2.5 uN) was already beyond the pull-off (-0.25 uN)
-#: and the "pull-off force" was the compressive preload, +0.3 uN.  Fixed: solvers/paths.pull_off
+#: and the "pull-off force" was the compressive preload, +0.3 uN.  Fixed: solvers/normal_paths.pull_off
 #: steps through F = 0 (an equilibrium of an adhesive contact).
 PULLOFF_FORCE_COARSE = {
     "kind": "pulloff", "grid": {"n": 128, "size": 0.3e-6}, "body1": {"E": 5e9, "nu": 0.0},

@@ -5,7 +5,7 @@ tangential solve, and the counted coupling passes match the steps' own."""
 import importlib.util
 from pathlib import Path
 
-SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "adhesive_loop.py"
+SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "adhesive_loop.py"
 
 
 def _module():

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "fingerprints.py"
+SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "fingerprints.py"
 
 
 def _module():

@@ -10,7 +10,7 @@ import pytest
 
 from tribobem.elasticity import cupy_available
 
-SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "gpu.py"
+SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "gpu.py"
 
 
 def _module():

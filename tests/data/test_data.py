@@ -21,7 +21,7 @@ from tribobem.data import DATA_ENV, TOPOGRAPHIES, topography_dir, topography_pat
 from tribobem.errors import InputError
 from tribobem.scenario import build_problem, parse_scenario
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 runner = CliRunner()
 
 

@@ -41,7 +41,7 @@ from tribobem.elasticity.backend import Backend
 from tribobem.elasticity.strict import DeviceArray, StrictBackend, reset_counts, strict_backend
 from tribobem.scenario import run_scenario
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 PAIR = ContactPair(Material(100e9, 0.3), Material(200e9, 0.25))
 
 
@@ -160,7 +160,7 @@ def _example(name: str, **changes) -> dict:
 _RAMP = {"start": "0 uN", "stop": "2 uN", "num": 4}
 _DUGDALE = {"work_of_adhesion": "50 mJ/m^2", "z0": "0.5 nm"}
 _SMOOTH_ROUGH = {"kind": "self_affine", "hurst": 0.8, "rms": "2 nm", "rolloff": "250 nm", "seed": 7}
-_SPHERE_FILMS = {  # tests/test_capillary_run.py's sphere on a stiff flat with SiO2 films
+_SPHERE_FILMS = {  # tests/runs/test_capillary_run.py's sphere on a stiff flat with SiO2 films
     "grid": {"n": 32, "size": "0.4 um", "periodic": False},
     "body1": {"E": "1000 GPa", "nu": 0.2, "film": {"isotherm": "SiO2"}},
     "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "1 um"}, "film": {"isotherm": "SiO2"}},

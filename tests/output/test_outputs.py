@@ -195,7 +195,7 @@ def test_report_has_a_computed_against_expected_section(tmp_path):
 
     from tribobem.scenario import run_scenario
 
-    example = Path(__file__).resolve().parents[1] / "examples" / "pulloff_sphere.toml"
+    example = Path(__file__).resolve().parents[2] / "examples" / "pulloff_sphere.toml"
     r = run_scenario(str(example), outdir=tmp_path / "ps", progress=False)
     html = (tmp_path / "ps" / "report.html").read_text()
     assert r.summary["expected"]["met"] and r.summary["expected"]["values"][0]["dimension"] == "force"

@@ -14,7 +14,7 @@ from tribobem.output import make_figures, render_report, replot
 from tribobem.output.figures import loop_map_steps, mindlin_reference, turning_point_letters
 from tribobem.output.run_kind import run_view
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "hysteresis_mindlin.toml"
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "hysteresis_mindlin.toml"
 HYSTERESIS_FIGURES = ("hysteresis_loop", "lateral_stiffness", "dissipation_cycle1", "stickslip_loop")
 
 
@@ -179,7 +179,7 @@ def test_replot_without_fields(tiny, tmp_path):
 
 # ----------------------------------------------------------------------------- other kinds, partial data
 def test_other_kinds_draw_none_of_them(tmp_path):
-    from test_outputs_tangential import _fields, synthetic_run
+    from .test_outputs_tangential import _fields, synthetic_run
 
     grid, normals, tangentials, summary = synthetic_run(n=16, ratios=(0.0, 0.6, 1.0))
     figs = make_figures(_fields(grid, normals, tangentials), summary, tmp_path)

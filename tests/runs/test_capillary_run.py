@@ -81,7 +81,7 @@ def test_spec_91_capillary_keys_parse_to_si():
     assert sc.body1.film.isotherm == "SiO2" and sc.body1.hamaker == pytest.approx(6.5e-20)
     assert sc.body2.hamaker == pytest.approx(19e-20)
     # thin_film is a closed system by default (with the disjoining pressure: without it the
-    # scenario must give film_time, see tests/capillary/test_thin_film_end_time.py)
+    # scenario must give film_time, see tests/interactions/test_thin_film_end_time.py)
     d = _spec91()
     d["humidity"].update(levelling="thin_film", disjoining=True)
     d["humidity"].pop("film_system")

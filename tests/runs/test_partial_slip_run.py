@@ -21,7 +21,7 @@ import pytest
 from tribobem.scenario import parse_scenario, run_scenario
 from tribobem.solvers.coupling import solve_coupled
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "partial_slip_paper_d.toml"
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "partial_slip_paper_d.toml"
 MU = 0.2
 F0 = 10e-6  # normal force of the example (N)
 CAP = MU * F0  # mu F0+ without adhesion (N)

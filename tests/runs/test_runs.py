@@ -11,7 +11,7 @@ from tribobem.scenario import IMPLEMENTED_KINDS, KINDS
 from tribobem.scenario import run as run_module
 from tribobem.scenario import run_scenario
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def _example_dict(name: str) -> dict:
@@ -103,7 +103,7 @@ def test_solver_method_normcg_for_kind_normal_matches_polonsky_keer_and_hertz(lo
         return original(*args, **kw)
 
     pk = run_scenario(_hertz_scenario(**load), progress=False)
-    import tribobem.solvers.paths as paths_module
+    import tribobem.solvers.normal_paths as paths_module
 
     monkeypatch.setattr(normal_module, "solve_normal", spy)
     monkeypatch.setattr(paths_module, "solve_normal", spy)

@@ -14,7 +14,7 @@ from tribobem.errors import InputError
 from tribobem.runs import KINDS
 from tribobem.runs.common import SCENARIO_KEYS, scenario_errors, scenario_keys, translate_error
 from tribobem.solvers.normal import solve_normal
-from tribobem.solvers.paths import pull_off
+from tribobem.solvers.normal_paths import pull_off
 from tribobem.solvers.tangential import GrossSlipError, solve_tangential
 from tribobem.validation.tangential import cattaneo_problem
 

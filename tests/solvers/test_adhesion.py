@@ -110,7 +110,7 @@ def test_maugis_dugdale_curve_points(lam):
     force-controlled solve at F = +pi R dgamma stalls ('no progress in 2000 iterations', residual
     0.05, 2114 iterations) although every displacement-controlled solve along the loading
     converges; its force points are therefore reached by displacement-controlled loading from
-    the first touch and interpolation of F(delta) (solvers.paths.solve_at_force, the
+    the first touch and interpolation of F(delta) (solvers.normal_paths.solve_at_force, the
     ``force_path="approach"`` default of maugis_dugdale_rows for lambda >= 5).  The stall is
     a property of the force-controlled Polonsky-Keer iteration with a stiff step law on a
     fine grid (the same solve converges in 260 iterations on 480^2), not of the state.
@@ -140,7 +140,7 @@ def test_cold_displacement_control_large_lambda():
 
 @pytest.mark.parametrize("lam", _lambda_params())
 def test_pull_off(lam):
-    """Pull-off by displacement-controlled unloading (solvers.paths.pull_off) within 3% of the
+    """Pull-off by displacement-controlled unloading (solvers.normal_paths.pull_off) within 3% of the
     Maugis-Dugdale value.  For lambda = 5 the continuation (steps of h0/4 = 0.03 of the
     approach unit once the force is tensile) would need ~60 solves on 1248^2, hours on two
     cores: there a warm-started displacement-controlled scan from Delta = 0.3 down past the
@@ -344,14 +344,14 @@ def test_grid_convergence_lambda_1(capsys):
 # --------------------------------------------------------------------------------------
 
 def test_solve_at_force_reaches_the_force_controlled_state(md_small):
-    """solvers.paths.solve_at_force (loading from the first touch under displacement control,
+    """solvers.normal_paths.solve_at_force (loading from the first touch under displacement control,
     regula falsi on F(delta)) reaches the force within its rtol = 1e-3 and lands on the branch a
     force-controlled solve finds: areas within one ring of cells of each other (the discrete
     Dugdale problem has several solutions that differ by edge cells, see
     test_force_control_and_displacement_control_agree), a within 3% and the approach within 5%
     of the approach unit of Maugis-Dugdale on this 64^2 grid (measured: a 0.1-1.0%, approach
     1.0-3.8%; the force-controlled solve 1.0-2.8% and 1.9-5.4%)."""
-    from tribobem.solvers.paths import solve_at_force
+    from tribobem.solvers.normal_paths import solve_at_force
 
     prob = md_small
     for F in (prob.F_scale, 0.0, 0.5 * prob.F_pull_off):
@@ -368,10 +368,10 @@ def test_solve_at_force_reaches_the_force_controlled_state(md_small):
 
 
 def _fail_polonsky_keer(monkeypatch, fails):
-    """Make the solves of solvers.paths fail where ``fails(method, initial, approach)`` is true:
+    """Make the solves of solvers.normal_paths fail where ``fails(method, initial, approach)`` is true:
     the solve runs, and its result comes back unconverged (a stand-in for the stalls of the
     lambda = 5 sphere on 1248^2, hours to reproduce).  Returns the list of failed approaches."""
-    import tribobem.solvers.paths as paths
+    import tribobem.solvers.normal_paths as paths
 
     real = paths._solve_quiet
     failed = []
@@ -395,7 +395,7 @@ def test_solve_at_force_falls_back_on_normcg(md_small, monkeypatch):
     made to fail here on every solve but the first touch; the path then runs on NormCG alone
     and must meet the bars of the Polonsky-Keer path above (a within 3% of Maugis-Dugdale, the
     approach within 5% of the unit, the Dugdale conditions) and count its fallbacks."""
-    import tribobem.solvers.paths as paths
+    import tribobem.solvers.normal_paths as paths
 
     pk_failed = _fail_polonsky_keer(monkeypatch, lambda method, initial, d: method == "polonsky_keer"
                                     and (initial is not None or d > 0))
@@ -417,7 +417,7 @@ def test_solve_at_force_falls_back_on_normcg(md_small, monkeypatch):
 def test_pull_off_says_when_the_preload_needed_normcg(md_small, monkeypatch):
     """A pull-off whose loading to the preload needed the NormCG fallback says so in its notes
     (the run's warnings): its start may be another discrete equilibrium than Polonsky-Keer's."""
-    import tribobem.solvers.paths as paths
+    import tribobem.solvers.normal_paths as paths
 
     real_saf = paths.solve_at_force
     loading = []
@@ -448,7 +448,7 @@ def test_solve_at_force_without_fallback_keeps_polonsky_keer(md_small, monkeypat
     """The fallback only acts where the path would end: on the 64^2 sphere no step needs it,
     and where Polonsky-Keer fails a long step warm and cold but completes it shortened, the
     shortened steps carry the path (no NormCG)."""
-    import tribobem.solvers.paths as paths
+    import tribobem.solvers.normal_paths as paths
 
     prob = md_small
     res = paths.solve_at_force(prob.operator, prob.gap, 0.0, interaction=prob.adhesion, tol=1e-10, rtol=1e-3)
@@ -468,7 +468,7 @@ def test_solve_at_force_without_fallback_keeps_polonsky_keer(md_small, monkeypat
 
 def test_solve_at_force_beyond_pull_off_is_an_input_error(md_small):
     from tribobem.errors import InputError
-    from tribobem.solvers.paths import solve_at_force
+    from tribobem.solvers.normal_paths import solve_at_force
 
     prob = md_small
     with pytest.raises(InputError, match="no equilibrium"):
@@ -482,7 +482,7 @@ def test_pull_off_from_zero_external_load(md_small):
     zero pressure) gives the same pull-off.  Against Maugis-Dugdale 8% on this 64^2 grid (~5
     cells across the cohesive zone; measured +5.8%, the first-order lattice error that
     test_grid_convergence_lambda_1 follows down to 2% at 256^2)."""
-    from tribobem.solvers.paths import pull_off
+    from tribobem.solvers.normal_paths import pull_off
 
     prob = md_small
     with warnings.catch_warnings():
@@ -517,7 +517,7 @@ def test_pull_off_of_a_periodic_bisinusoid_from_a_full_contact_preload():
     from tribobem.interactions.dugdale import DugdaleAdhesion
     from tribobem.materials import ContactPair, Material
     from tribobem.output.checks import result_warnings
-    from tribobem.solvers.paths import pull_off
+    from tribobem.solvers.normal_paths import pull_off
     from tribobem.validation.bisinusoidal import bisinusoidal_cell, bisinusoidal_gap, bisinusoidal_pull_off
 
     R_c, S, E, dg, z0, n = 20e-6, 5e-9, 100e9, 0.05, 0.3e-9, 256
@@ -549,7 +549,7 @@ def test_solve_at_force_without_adhesion_matches_hertz():
     from tribobem.geometry.shapes import sphere
     from tribobem.grid import Grid
     from tribobem.materials import ContactPair, Material
-    from tribobem.solvers.paths import solve_at_force
+    from tribobem.solvers.normal_paths import solve_at_force
 
     grid = Grid.square(128, 0.25e-6)
     pair = ContactPair(Material(130e9, 0.28, "Si"), Material.rigid())

@@ -24,9 +24,9 @@ import numpy as np
 import pytest
 
 from tribobem import ConvergenceWarning
-from tribobem.solvers import slip_paths
+from tribobem.solvers import tangential_paths
 from tribobem.solvers.coupling import solve_coupled
-from tribobem.solvers.slip_paths import _locate_onset, tangential_ramp, unused_friction
+from tribobem.solvers.tangential_paths import _locate_onset, tangential_ramp, unused_friction
 from tribobem.solvers.tangential import solve_tangential
 from tribobem.validation.tangential import cattaneo_problem, paper_d_problem
 
@@ -114,7 +114,7 @@ def _synthetic(G, F0=1.0, mu=1.0):
 @pytest.mark.parametrize("p", [1.0, 1.5])
 @pytest.mark.parametrize("onset", [0.917, 0.9855, 0.9991])
 def test_onset_search_on_power_laws(monkeypatch, p, onset):
-    monkeypatch.setattr(slip_paths, "unused_friction", lambda res: res.G)
+    monkeypatch.setattr(tangential_paths, "unused_friction", lambda res: res.G)
     probe, state, calls = _synthetic(lambda F: 0.3 * max(onset - F, -1.0) ** p if F < onset else onset - F)
     lo, hi = 0.8, 1.0  # the ramp's last step with stick and the first without (steps of 0.1)
     out = _locate_onset(probe, lo, hi, state(lo), (0.7, state(0.7)), 1e-3, 1.0, 40, True, 1.0)
@@ -139,7 +139,7 @@ def test_onset_search_survives_a_misleading_indicator(monkeypatch):
             return onset - F
         return 0.2 if F < onset - 1e-4 else 0.2 * (onset - F) / 1e-4
 
-    monkeypatch.setattr(slip_paths, "unused_friction", lambda res: res.G)
+    monkeypatch.setattr(tangential_paths, "unused_friction", lambda res: res.G)
     probe, state, calls = _synthetic(G)
     lo, hi, lo_res, n = _locate_onset(probe, 0.8, 1.0, state(0.8), (0.7, state(0.7)), 1e-3, 1.0, 40, True, 1.0)
     assert lo <= onset < hi and hi - lo <= 1e-3
@@ -175,14 +175,14 @@ def _synthetic_displacement(d_star, p, Q_star=0.985, slope_above=0.02):
 @pytest.mark.parametrize("d_star", [0.93, 1.0, 1.3])
 @pytest.mark.parametrize("estimate", [True, False])
 def test_displacement_onset_search_brackets_the_force(monkeypatch, p, d_star, estimate):
-    monkeypatch.setattr(slip_paths, "unused_friction", lambda res: res.G)
+    monkeypatch.setattr(tangential_paths, "unused_friction", lambda res: res.G)
     if not estimate:
-        monkeypatch.setattr(slip_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection in delta
+        monkeypatch.setattr(tangential_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection in delta
     probe, state, calls = _synthetic_displacement(d_star, p)
     Q_star = state(d_star).Q
     # the force ramp: last step with stick at delta = 0.7 (before it 0.6), first without at Q = 1
     lo, before = state(0.7), state(0.6)
-    q_lo, q_hi, lo_res, n = slip_paths._locate_onset_displacement(
+    q_lo, q_hi, lo_res, n = tangential_paths._locate_onset_displacement(
         probe, lo, before, 1.0, 1e-3, 1.0, 40, lambda r: r.d, lambda r: r.Q, 0.0)
     assert q_lo <= Q_star < q_hi and q_hi - q_lo <= 1e-3
     assert not lo_res.tangential.gross_slip and lo_res.Q == q_lo
@@ -203,7 +203,7 @@ def test_ramp_onset_in_displacement_equals_the_force_bisection(monkeypatch):
     assert "displacement-controlled" not in auto.message
     smart = tangential_ramp(op, gap, onset_by="displacement", **kw)
     assert "displacement-controlled probes" in smart.message
-    monkeypatch.setattr(slip_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection
+    monkeypatch.setattr(tangential_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection
     plain = tangential_ramp(op, gap, onset_by="force", **kw)
     assert "displacement-controlled" not in plain.message
     assert auto.onset_bracket != smart.onset_bracket
@@ -223,7 +223,7 @@ def test_ramp_onset_equals_the_bisection(monkeypatch):
     forces = [0.0, 0.5e-6, 1.0e-6, 1.5e-6, 2.0e-6]
     kw = dict(normal_force=F0, friction_coefficient=MU_D, forces=forces, refine_tol=1e-3, onset_by="force")
     smart = tangential_ramp(op, gap, **kw)
-    monkeypatch.setattr(slip_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection
+    monkeypatch.setattr(tangential_paths, "_extrapolate_onset", lambda pts: None)  # pure bisection
     plain = tangential_ramp(op, gap, **kw)
     need = 1e-3 * MU_D * smart.onset_state.normal.repulsive_force
     (l1, h1), (l2, h2) = smart.onset_bracket, plain.onset_bracket

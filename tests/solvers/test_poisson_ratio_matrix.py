@@ -51,7 +51,7 @@ from tribobem.analytic.mindlin import (
 from tribobem.elasticity import make_operator
 from tribobem.scenario import run_scenario
 from tribobem.solvers.normal import solve_normal
-from tribobem.solvers.slip_paths import normal_path
+from tribobem.solvers.normal_paths import normal_path
 from tribobem.solvers.tangential import solve_tangential
 
 E = 130e9          # Pa

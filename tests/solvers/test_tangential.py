@@ -28,7 +28,8 @@ from tribobem import ConvergenceError, ConvergenceWarning, InputError
 from tribobem.elasticity.tangential import tangential_operator
 from tribobem.solvers.coupling import solve_coupled
 from tribobem.solvers.normal import solve_normal
-from tribobem.solvers.slip_paths import normal_path, tangential_ramp
+from tribobem.solvers.normal_paths import normal_path
+from tribobem.solvers.tangential_paths import tangential_ramp
 from tribobem.solvers.tangential import GrossSlipError, solve_tangential
 from tribobem.validation.tangential import _mindlin_k, cattaneo_problem, paper_d_problem
 

@@ -70,7 +70,7 @@ def test_fit_recovers_known_constants_and_beta0_fit():
     assert fit0.predict(dg, R, E, k, beta0=True) == pytest.approx(fit0.a0 * R * dg * k**fit0.b0)
 
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 QUICK = ROOT / "examples" / "studies" / "bisinusoidal_quick.toml"
 PUBLISHED = [ROOT / "docs" / "data" / "bisinusoidal_pulloff.csv", ROOT / "docs" / "figures" / "bisinusoidal_pulloff.png"]
 

@@ -3,7 +3,7 @@
 Every script writes into a folder given by ``--out`` whose default lies under results/
 (ignored by git); a script that has published files in docs/ writes them only with an explicit
 ``--publish`` (and refuses ``--publish --quick``).  The quick runs of the scripts (in the
-other tests/test_studies_*.py files) check that docs/ is left untouched.
+other tests/studies/test_studies_*.py files) check that docs/ is left untouched.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SCRIPTS = sorted((ROOT / "examples" / "studies").glob("*.py"))
 
 

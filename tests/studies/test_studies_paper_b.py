@@ -15,7 +15,7 @@ import pytest
 from studies import paper_b
 from tribobem.sweep import load_sweep, run_sweep
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SWEEP = ROOT / "examples" / "studies" / "paper_b.toml"
 VERDICTS = {"reproduced", "partly", "not reproduced", "missing"}
 

@@ -84,7 +84,7 @@ def test_example_script_quick(tmp_path):
 
     import pandas as pd
 
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     spec = importlib.util.spec_from_file_location("example_paper_d_table1", root / "examples" / "studies" / "paper_d_table1.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)

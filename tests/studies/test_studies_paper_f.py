@@ -15,7 +15,7 @@ from studies import paper_f as pf
 from tribobem.data import topography_path
 from tribobem.errors import InputError
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "hysteresis_paper_f_pom.toml"
 #: The measured confocal scan shipped with tribobem (tribobem.data; no skip: it is always there).
 PLU = topography_path("plu-1.plu")

@@ -15,7 +15,7 @@ import pytest
 
 from tribobem.data import topography_path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples" / "studies"
 #: The measured Park AFM scan shipped with tribobem (tribobem.data; no skip: it is always there).
 PARK = topography_path("example_ps.tiff")

@@ -23,7 +23,7 @@ from studies.rough_slip import (
 )
 from tribobem.sweep import run_sweep
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 BASE = ROOT / "examples" / "studies" / "rough_ball_slip_base.toml"
 SWEEP = ROOT / "examples" / "studies" / "rough_ball_slip.toml"
 

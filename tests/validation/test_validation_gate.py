@@ -11,7 +11,7 @@ import pytest
 from tribobem import InputError
 from tribobem.validation import CASES, LEVELS, PHYSICS, PHYSICS_CASES, run_validation
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_physics_partition_the_cases():
