@@ -117,12 +117,12 @@ def child_ramp(n: int, method: str, onset_by: str = "auto") -> dict:
 
     if onset_by != "auto":
         # the A/B switch: the onset probes in force (before) or in displacement control, whatever
-        # the grid (auto: displacement from slip_paths.DISPLACEMENT_ONSET_NODES on)
+        # the grid (auto: displacement from tangential_paths.DISPLACEMENT_ONSET_NODES on)
         import functools
 
         from tribobem.runs import partial_slip
-        from tribobem.solvers import slip_paths
-        partial_slip.tangential_ramp = functools.partial(slip_paths.tangential_ramp, onset_by=onset_by)
+        from tribobem.solvers import tangential_paths
+        partial_slip.tangential_ramp = functools.partial(tangential_paths.tangential_ramp, onset_by=onset_by)
 
     sc = scenario(n, ramp=True)
     sc["solver"]["method"] = method

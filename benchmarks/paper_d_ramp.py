@@ -44,7 +44,7 @@ def main(argv=None) -> dict:
     from tribobem.geometry import sphere
     from tribobem.runs.settings import COUPLING_TOLERANCE, TANGENTIAL_TOLERANCE
     from tribobem.solvers import coupling as C
-    from tribobem.solvers import slip_paths as S
+    from tribobem.solvers import tangential_paths as S
 
     counts = {"tangential_iterations": 0, "normal_iterations": 0, "states": 0}
     orig_t, orig_n, orig_c = C.solve_tangential, C.solve_normal, S.solve_coupled

@@ -33,7 +33,7 @@ from tribobem.grid import Grid
 from tribobem.interactions.dugdale import DugdaleAdhesion
 from tribobem.materials import ContactPair, Material
 from tribobem.solvers.normal import solve_normal
-from tribobem.solvers.paths import pull_off
+from tribobem.solvers.normal_paths import pull_off
 
 __all__ = ["SIO2", "SI", "AFMPullOff", "spot_origins", "afm_pull_off_spots"]
 
@@ -187,7 +187,7 @@ def afm_pull_off_spots(
     spots : list of (ix0, iy0), optional
         Explicit window origins (cells), instead of :func:`spot_origins`.
     n_steps, refine, tol, max_iterations
-        Pull-off path and solver settings (:func:`~tribobem.solvers.paths.pull_off`).
+        Pull-off path and solver settings (:func:`~tribobem.solvers.normal_paths.pull_off`).
     progress : callable, optional
         ``progress(done, total)`` after each spot (the smooth reference is spot 0).
 

@@ -7,7 +7,7 @@ at F_x = 0.  Adhesion is Dugdale (Maugis) with the work of adhesion set by the T
 ``mu_T = (R dgamma^2 / (E*^2 z0^3))^(1/3)`` (z0 = 0.2 nm; mu_T = 0: no adhesion).  For each
 mu_T a tangential force ramp along x ("total" slip: each step is the one-shot problem of
 Paper D) is solved with the normal-tangential coupling loop up to gross slip, and the onset
-(the stick area vanishes) is bisected to 1e-3 mu F0+ (:func:`~tribobem.solvers.slip_paths.tangential_ramp`).
+(the stick area vanishes) is bisected to 1e-3 mu F0+ (:func:`~tribobem.solvers.tangential_paths.tangential_ramp`).
 
 Reported per (mu_T, grid): F0- and F0+ of the F_x = 0 state (Paper D Eq. 16), the onset ratio
 F_x / (mu F0+), Paper D's F_nr = F_x / (mu F0), the stick ratio at F_x = 0, the pre-sliding
@@ -41,7 +41,7 @@ from tribobem.interactions.dugdale import DugdaleAdhesion
 from tribobem.materials import ContactPair, Material
 from tribobem.solvers.coupling import solve_coupled
 from tribobem.solvers.normal import solve_normal
-from tribobem.solvers.slip_paths import tangential_ramp
+from tribobem.solvers.tangential_paths import tangential_ramp
 
 __all__ = [
     "PAPER_D_TABLE1",

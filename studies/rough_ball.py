@@ -12,7 +12,7 @@ single contact, so the free-boundary (zero-padded) operator is used.
 For every (Tabor parameter, rms) the study reports
 
 * the pull-off force: the most negative force of the displacement-controlled unloading curve
-  started from the preload ``F0`` (Papers A, C; :func:`~tribobem.solvers.paths.pull_off`);
+  started from the preload ``F0`` (Papers A, C; :func:`~tribobem.solvers.normal_paths.pull_off`);
 * at ``F0`` (force control): the repulsive force ``F0+`` (sum of p > 0), the adhesive force
   ``F0-`` (sum of p < 0, negative) and ``F0-/F0`` (Paper A Fig. 11a), the contact area
   (nodes with g = 0), the cohesive-zone ("adhesive") area (0 < g < h0) and the area ratio
@@ -39,7 +39,7 @@ from tribobem.grid import Grid
 from tribobem.interactions.dugdale import DugdaleAdhesion
 from tribobem.materials import ContactPair, Material
 from tribobem.solvers.normal import solve_normal
-from tribobem.solvers.paths import pull_off
+from tribobem.solvers.normal_paths import pull_off
 
 __all__ = [
     "PAPER_D_RMS",
@@ -162,7 +162,7 @@ def rough_ball_study(
         zone touches its border).
     n_steps, refine : int
         Unloading steps and golden-section refinements of the pull-off
-        (:func:`~tribobem.solvers.paths.pull_off`).
+        (:func:`~tribobem.solvers.normal_paths.pull_off`).
     tol, max_iterations
         Solver settings.
     keep_fields : bool

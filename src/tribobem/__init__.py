@@ -11,10 +11,10 @@ from .grid import Grid
 from .interactions import DugdaleAdhesion
 from .materials import ContactPair, Material, effective_modulus
 from .output import read_fields, read_summary
-from .results import CoupledResult, NormalResult, TangentialResult
+from .results import CoupledResult, LoadCurve, NormalResult, PullOff, SlipRamp, TangentialResult
 from .scenario import RunResult, Scenario, ScenarioError, load_scenario, parse_scenario, run_scenario
-from .solvers import GrossSlipError, SlipRamp, normal_path, solve_coupled, solve_normal, solve_tangential, tangential_ramp
-from .solvers.paths import LoadCurve, PullOff, approach_curve, force_curve, pull_off, solve_at_force
+from .solvers import GrossSlipError, normal_path, solve_coupled, solve_normal, solve_tangential, tangential_ramp
+from .solvers.normal_paths import approach_curve, force_curve, pull_off, solve_at_force
 from .units import to_si
 
 from ._version import __version__

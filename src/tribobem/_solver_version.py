@@ -27,7 +27,7 @@ History
     masks, the corrected force balance), the TangCG-type tangential solver with the
     normal-tangential coupling loop, as of issue 9.
 2
-    Pull-off (``solvers.paths.pull_off``, run kind ``pulloff``): the unloading starts from the
+    Pull-off (``solvers.normal_paths.pull_off``, run kind ``pulloff``): the unloading starts from the
     preload reached by displacement-controlled loading from the first touch
     (``solve_at_force``) instead of a force-controlled solve from zero pressure, and the curve
     includes that start; a missing preload means zero external load.  Sphere pull-offs move

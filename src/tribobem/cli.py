@@ -478,7 +478,7 @@ def design(
 ):
     """Rank design variants: normal, pull-off, tangential ramp (and hysteresis) per point; table and report."""
     with _user_errors(design_file):
-        from .design import design_command
+        from .design.command import design_command
 
         if not design_file.exists():
             raise FileNotFoundError(f"design file {design_file} not found")

@@ -23,16 +23,17 @@ point), :mod:`~tribobem.design.table` (table, score, rank), :mod:`~tribobem.desi
 (HTML, Pareto fronts), :mod:`~tribobem.design.command` (:func:`run_design`, the command).
 """
 
-from .chain import STAGES, VALUE_KEYS, DesignPointError, DesignPointRunner, point_scenario, run_chain, stage_scenario
-from .command import DesignResult, design_command, run_design, tabulate
+from .chain import DesignPointError, point_scenario, run_chain, stage_scenario
+from .command import DesignResult, run_design
 from .report import pareto_front, render_design_report, write_design_report
-from .spec import DESIGN_VERSION, ChainOptions, DesignSpec, DesignSweep, Target, load_design
-from .table import TABLE_VALUES, design_table, rank_rows, write_table
+from .spec import ChainOptions, DesignSpec, DesignSweep, Target, load_design
+from .table import rank_rows
 
 __all__ = [
-    "DesignSpec", "DesignSweep", "ChainOptions", "Target", "load_design", "DESIGN_VERSION",
-    "run_design", "design_command", "tabulate", "DesignResult",
-    "DesignPointRunner", "DesignPointError", "run_chain", "stage_scenario", "point_scenario", "STAGES", "VALUE_KEYS",
-    "design_table", "rank_rows", "write_table", "TABLE_VALUES",
-    "pareto_front", "render_design_report", "write_design_report",
+    # the design file
+    "DesignSpec", "DesignSweep", "ChainOptions", "Target", "load_design",
+    # running it
+    "run_design", "DesignResult", "DesignPointError", "run_chain", "stage_scenario", "point_scenario",
+    # table and report
+    "rank_rows", "pareto_front", "render_design_report", "write_design_report",
 ]

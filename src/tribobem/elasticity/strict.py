@@ -20,7 +20,7 @@ Allowed, as on CuPy: ``float(dev)`` / ``bool(dev)`` / ``int(dev)`` of a one-elem
 transfer; it copies), ``Backend.to_numpy(dev)`` / ``dev.get()`` (the explicit way back; a copy).
 Reductions and scalar indexing give 0-d device arrays, not NumPy scalars, as in CuPy.
 
-The backend is for tests (``tests/test_device_clean.py`` runs every run kind on it): it makes
+The backend is for tests (``tests/elasticity/test_device_clean.py`` runs every run kind on it): it makes
 a host array reaching the device array module fail on a machine without a GPU, where the CuPy
 backend cannot run.  Its results equal the NumPy backend's (same NumPy arithmetic, the FFTs of
 the NumPy backend's engine).  It is slower than the NumPy backend (a Python wrapper per
@@ -376,7 +376,7 @@ class StrictBackend(Backend):
     Its FFTs are pocketfft's (``scipy.fft``) whatever the engine: those of the NumPy backend's
     lean paths (free boundary, preconditioner boxes) with every engine, and of its whole-array
     ones (kernel spectra, periodic operators) with the ``scipy`` engine.  Its results equal a
-    NumPy backend's on the ``scipy`` engine to round-off, as tests/test_device_clean.py checks; on
+    NumPy backend's on the ``scipy`` engine to round-off, as tests/elasticity/test_device_clean.py checks; on
     another engine the kernel spectra differ by round-off, which a multistable adhesive contact
     can carry to another branch.
 

@@ -31,8 +31,8 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ["atomic_path", "atomic_write_bytes", "atomic_write_text", "temp_path", "staged", "staged_source",
-           "sigint_deferred", "file_state", "pause_hook", "TMP_GLOB"]
+__all__ = ["atomic_path", "atomic_write_bytes", "atomic_write_text", "staged", "staged_source",
+           "sigint_deferred"]
 
 #: Glob of the temporary files (next to their targets).
 TMP_GLOB = ".*.tmp"

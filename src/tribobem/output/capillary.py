@@ -23,8 +23,7 @@ from ..units import display_unit, format_value
 from .plotting import map_axes, map_extent, new_figure, save_png
 from .run_kind import run_view
 
-__all__ = ["chosen_steps", "capillary_step", "capillary_forces_figure",
-           "pulloff_rh_figure", "meniscus_figure", "films_figure", "capillary_figures", "FIGURE_NAMES"]
+__all__ = ["FIGURE_NAMES"]
 
 #: Figure names of this module, in report order.
 FIGURE_NAMES = ("capillary_forces", "pulloff_rh", "meniscus", "films")

@@ -58,9 +58,8 @@ from ..units import format_quantity
 __all__ = [
     "result_warnings", "warning_names", "cohesive_cells", "cohesive_gap_step", "patch_width",
     "stick_zone_width", "scan_pixel", "cell_self_compliance", "cohesive_edge_nodes", "cohesive_edge_band",
-    "MAX_EDGE_FORCE", "compare_expected", "pull_off_statement", "CHECKS",
-    "MIN_COHESIVE_CELLS", "FULL_CONTACT", "MAX_A_OVER_R", "MIN_CONTACT_CELLS", "MIN_STICK_CELLS",
-    "MAX_GAP_STEP", "EDGE_TENSION_FRACTION",
+    "compare_expected", "pull_off_statement", "CHECKS",
+    "MIN_COHESIVE_CELLS", "MIN_CONTACT_CELLS",
 ]
 
 #: Names of the checks (the prefix of their warnings).

@@ -37,8 +37,7 @@ from .plotting import friction_coefficient as _friction_coefficient
 from .plotting import new_figure, save_png
 from .run_kind import run_view
 
-__all__ = ["FIGURE_NAMES", "rh_groups", "per_rh", "rh_summary", "zero_load_row", "rh_colors",
-           "rh_label", "humid_rh_figure", "humid_curve_figure", "humid_friction_figures"]
+__all__ = ["FIGURE_NAMES", "rh_groups", "per_rh", "rh_summary"]
 
 #: Figure names of this module, in report order.
 FIGURE_NAMES = ("humid_friction_rh", "humid_friction_curve")

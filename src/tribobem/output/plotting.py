@@ -14,8 +14,8 @@ import numpy as np
 from ..units import format_value
 from .atomic import atomic_write_bytes
 
-__all__ = ["DPI", "COLORS", "CONTACT_COLORS", "MIN_FONT", "MIN_INSET_FONT", "new_figure", "save_png", "legible",
-           "keep_inside", "spread_labels", "map_extent", "map_axes", "step_title", "profile_row", "finite",
+__all__ = ["DPI", "COLORS", "MIN_FONT", "save_png", "legible",
+           "spread_labels", "step_title", "profile_row", "finite",
            "friction_coefficient"]
 
 #: Resolution of the PNG figures (dots per inch).

@@ -48,8 +48,7 @@ from .kind import ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, require_elasti
 from .kind import CAPILLARY_COLUMNS
 from .settings import FILM_TOLERANCE_FLOOR, SolverSettings
 
-__all__ = ["run", "check", "KIND", "films_at", "capillary_options", "capillary_row", "step_maps", "step_fields",
-           "STEP_FIELDS"]
+__all__ = ["run", "check", "KIND", "films_at"]
 
 #: fields.nc variables a capillary step adds: name -> (dtype, attributes).
 STEP_FIELDS = {

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..solvers.normal import resolve_method
-from ..solvers.paths import LoadCurve, find_jumps
+from ..solvers.normal_paths import LoadCurve, find_jumps
 
 __all__ = ["normal_method", "step_row", "curve_from_rows", "offset_progress", "approach_below_full_contact",
            "SCENARIO_KEYS", "translate_error", "scenario_keys", "scenario_errors"]

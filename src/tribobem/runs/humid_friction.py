@@ -34,7 +34,7 @@ from .capillary import capillary_options, films_at
 from .kind import RunOutput
 from .settings import SolverSettings
 
-__all__ = ["LIST_KEYS", "DRY_KEYS", "capillary_model", "meniscus_fields", "run_per_rh"]
+__all__ = ["capillary_model"]
 
 #: Run-level keys that are lists in RH order in a humid run, per kind.
 LIST_KEYS = {

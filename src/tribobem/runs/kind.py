@@ -21,8 +21,8 @@ from typing import Any, Callable, Mapping, Optional, Union
 
 from ..errors import InputError
 
-__all__ = ["ALL", "SECTIONS", "BODY_KEYS", "COMMON", "COMMON_RESULTS", "TANGENTIAL_STEPS", "CAPILLARY_STEPS",
-           "NORMAL_COLUMNS", "TANGENTIAL_COLUMNS", "CAPILLARY_COLUMNS", "RunKind", "RunOutput", "fail"]
+__all__ = ["SECTIONS", "BODY_KEYS", "COMMON", "NORMAL_COLUMNS", "TANGENTIAL_COLUMNS", "CAPILLARY_COLUMNS", "RunKind",
+           "RunOutput", "fail"]
 
 #: A section whose every key the kind reads.
 ALL = "*"

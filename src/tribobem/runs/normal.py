@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from ..solvers.normal import solve_normal
-from ..solvers.paths import approach_curve, force_curve
+from ..solvers.normal_paths import approach_curve, force_curve
 from .common import approach_below_full_contact, scenario_errors, step_row
 from .kind import RunKind, RunOutput, fail, positive_normal_load, require_elastic_body
 from .kind import NORMAL_COLUMNS

@@ -5,7 +5,7 @@ Two paths (file-contract):
 * ``load.force`` with ``friction.tangential_forces`` (or ``tangential_displacements``): a
   tangential ramp at a fixed normal load, each step solved by the normal-tangential coupling
   loop; a ramp that reaches gross slip ends there (a result, not an error) and the gross-slip
-  onset is bracketed to 1e-3 x mu F0+ (:func:`~tribobem.solvers.slip_paths.tangential_ramp`);
+  onset is bracketed to 1e-3 x mu F0+ (:func:`~tribobem.solvers.tangential_paths.tangential_ramp`);
 * ``load.forces`` (with ``slip = "incremental"``): a normal-load path with friction, the
   tangential state carried step to step; tangential forces, if given, are paired with it.
 
@@ -21,7 +21,8 @@ import math
 
 from ..errors import InputError
 from ..units import format_quantity
-from ..solvers.slip_paths import normal_path, stick_radius_ratio, tangential_ramp
+from ..solvers.normal_paths import normal_path
+from ..solvers.tangential_paths import stick_radius_ratio, tangential_ramp
 from .common import scenario_errors
 from .humid_friction import meniscus_fields, run_per_rh
 from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, fail, positive_normal_load,

@@ -2,8 +2,8 @@
 
 The unloading starts from the state at ``load.preload`` (or, without a preload, from the
 adhesive equilibrium at zero external load), reached by loading under displacement control
-from the first touch (:func:`~tribobem.solvers.paths.solve_at_force`); then
-:func:`~tribobem.solvers.paths.pull_off` unloads and refines the most negative force.  The
+from the first touch (:func:`~tribobem.solvers.normal_paths.solve_at_force`); then
+:func:`~tribobem.solvers.normal_paths.pull_off` unloads and refines the most negative force.  The
 optional loading branch runs under displacement control from separation to the approach of
 that start.  Run-level ``pull_off_force``, ``preload`` (the force the unloading started from),
 ``preload_source`` and ``cohesive_zone_cells`` (cells across the cohesive zone at pull-off).
@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import ConvergenceWarning
 from ..output.checks import cohesive_cells
-from ..solvers.paths import approach_curve, pull_off
+from ..solvers.normal_paths import approach_curve, pull_off
 from .common import curve_from_rows, offset_progress, scenario_errors
 from .humid_pulloff import run as humid_run
 from .kind import (ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, refuse_normcg, require_elastic_body,

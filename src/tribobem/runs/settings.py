@@ -25,8 +25,7 @@ from typing import Optional
 from ..solvers import coupling as _coupling
 from .common import normal_method as _normal_method
 
-__all__ = ["SolverSettings", "TANGENTIAL_TOLERANCE", "COUPLING_TOLERANCE", "ONSET_TOLERANCE",
-           "FILM_TOLERANCE_FLOOR", "COUPLED_KINDS", "ONSET_KINDS", "OWN_METHOD_KINDS"]
+__all__ = ["SolverSettings", "TANGENTIAL_TOLERANCE", "COUPLING_TOLERANCE", "ONSET_TOLERANCE"]
 
 #: Floor of the tangential solver's tolerance (traction change and complementarity residual) in
 #: the tangential kinds: their tangential solves use max([solver] tolerance, this).  Measured on
@@ -48,9 +47,9 @@ FILM_TOLERANCE_FLOOR = 1e-12
 #: (:func:`~tribobem.solvers.coupling.solve_coupled`): their settings carry the tangential and
 #: coupling tolerances and the loop's own inexact ones.
 COUPLED_KINDS = frozenset({"partial_slip", "hysteresis"})
-#: Kinds that bracket the gross-slip onset (:func:`~tribobem.solvers.slip_paths.tangential_ramp`).
+#: Kinds that bracket the gross-slip onset (:func:`~tribobem.solvers.tangential_paths.tangential_ramp`).
 ONSET_KINDS = frozenset({"partial_slip"})
-#: Kinds whose dry path takes no normal solver: :func:`~tribobem.solvers.paths.pull_off` solves
+#: Kinds whose dry path takes no normal solver: :func:`~tribobem.solvers.normal_paths.pull_off` solves
 #: its Dugdale states with Polonsky-Keer (NormCG only as its last resort) and the kind refuses
 #: ``method = "normcg"``; with ``[humidity]`` the kind's solves take the method like the others.
 OWN_METHOD_KINDS = frozenset({"pulloff"})
@@ -158,7 +157,7 @@ class SolverSettings:
     # ------------------------------------------------------------------ keyword arguments
     def path_kw(self) -> dict:
         """``tol`` and ``max_iterations``: the keywords of a solve that picks its own normal
-        solver (:func:`~tribobem.solvers.paths.pull_off`,
+        solver (:func:`~tribobem.solvers.normal_paths.pull_off`,
         :func:`~tribobem.solvers.capillary.solve_capillary`, whose solver comes with its options)."""
         return {"tol": self.tolerance, "max_iterations": self.max_iterations}
 

@@ -663,7 +663,7 @@ class LoadSpec(Section):
     unloading starts.  Left out, the unloading starts from the adhesive equilibrium at zero
     external load (the bodies brought into contact and let go: F = 0 on the contact branch).
     Either way the start is reached by loading under displacement control from the first touch
-    (:func:`tribobem.solvers.paths.solve_at_force`); a periodic cell that reaches full contact
+    (:func:`tribobem.solvers.normal_paths.solve_at_force`); a periodic cell that reaches full contact
     below the preload starts from its last state short of full contact (a warning says so)."""
 
     force: Optional[Quantity("force")] = None

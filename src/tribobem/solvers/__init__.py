@@ -8,12 +8,13 @@ argument (``gap``, ``pressure``) where no scenario key stands for it.  The solve
 scenario keys: the scenario runners translate (:data:`tribobem.runs.common.SCENARIO_KEYS`).
 """
 
-from .capillary import CapillaryResult, solve_capillary
+from .capillary import solve_capillary
 from .coupling import solve_coupled
 from .normal import solve_normal
 from .normal_cg import solve_normal_cg
-from .slip_paths import SlipRamp, normal_path, tangential_ramp
+from .normal_paths import normal_path
+from .tangential_paths import tangential_ramp
 from .tangential import GrossSlipError, solve_tangential
 
 __all__ = ["solve_normal", "solve_normal_cg", "solve_tangential", "solve_coupled", "tangential_ramp", "normal_path",
-           "SlipRamp", "GrossSlipError", "solve_capillary", "CapillaryResult"]
+           "GrossSlipError", "solve_capillary"]

@@ -40,88 +40,10 @@ from ..interactions.capillary import CapillaryInteraction, ForceSplit
 from ..interactions.dugdale import DugdaleAdhesion
 from ..interactions.menisci import CRITICAL_DISTANCE, Islands, meniscus_islands
 from ..interactions.van_der_waals import DEFAULT_CUTOFF, HAMAKER_SIO2, HAMAKER_WATER, VanDerWaals
-from ..results import NormalResult
+from ..results import CapillaryResult, NormalResult
 from .normal import solve_normal
 
-__all__ = ["CapillaryResult", "CapillaryModel", "solve_capillary", "island_fixed_point"]
-
-
-@dataclass
-class CapillaryResult:
-    """A self-consistent capillary contact state (SI units; forces negative when tensile).
-
-    Attributes
-    ----------
-    normal : NormalResult
-        The last normal solve (pressure, gap, contact, ...).
-    islands : Islands
-        The meniscus islands whose law the last solve used.
-    capillary_force, solid_solid_force, water_solid_force : float
-        F_cap (dP_cap over the wetted area), F_ss (Dugdale zone outside the contact), F_ws
-        (water-filled and air-gap van der Waals), N.
-    contact_force : float
-        Sum of the pressure on the contact nodes (N); NaN for rigid bodies in contact.
-    repulsive_force : float
-        F0+, its compressive part (N); NaN for rigid bodies in contact.
-    total_force : float
-        contact + capillary + solid-solid + water-solid (N): the applied normal force.
-    contact_area, wetted_area : float
-        Contact area and meniscus area outside the contact carrying dP_cap (m^2).
-    island_count : int
-        Number of ACTIVE meniscus islands.
-    outer_iterations : int
-        Normal solves of the island fixed point.
-    converged : bool
-        The island mask repeated and the last normal solve converged.
-    message : str
-    kelvin_radius, capillary_pressure : float
-        r_k (m) and the APPLIED capillary pressure (Pa, after the contribution coefficient).
-    interaction : CapillaryInteraction
-        The stress law of the last solve.
-    history : list of int
-        Active nodes after each outer iteration.
-    time : float
-        Wall time (s).
-    """
-
-    normal: NormalResult
-    islands: Islands
-    capillary_force: float
-    solid_solid_force: float
-    water_solid_force: float
-    contact_force: float
-    repulsive_force: float
-    total_force: float
-    contact_area: float
-    wetted_area: float
-    island_count: int
-    outer_iterations: int
-    converged: bool
-    message: str
-    kelvin_radius: float
-    capillary_pressure: float
-    interaction: CapillaryInteraction = field(repr=False, default=None)
-    history: list = field(default_factory=list)
-    time: float = 0.0
-
-    def scalars(self) -> dict:
-        """Per-step scalars (file-contract keys), the normal solve's plus the capillary ones."""
-        d = self.normal.scalars()
-        d.update({
-            "normal_force": self.total_force,
-            "repulsive_force": self.repulsive_force,
-            "capillary_force": self.capillary_force,
-            "solid_solid_force": self.solid_solid_force,
-            "water_solid_force": self.water_solid_force,
-            "wetted_area": self.wetted_area,
-            "contact_area": self.contact_area,
-            "island_count": self.island_count,
-            "kelvin_radius": self.kelvin_radius,
-            "capillary_pressure": self.capillary_pressure,
-            "outer_iterations": self.outer_iterations,
-            "converged": self.converged,
-        })
-        return d
+__all__ = ["CapillaryModel", "solve_capillary", "island_fixed_point"]
 
 
 @dataclass(frozen=True)

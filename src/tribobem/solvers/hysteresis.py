@@ -38,45 +38,21 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
 from ..errors import ConvergenceWarning, InputError
+from ..results import CyclePath, HysteresisRun
 from .coupling import solve_coupled
-from .slip_paths import direction_vector
+from .tangential_paths import direction_vector
 from .tangential import GrossSlipError
 from .window import auto_window, solve_coupled_windowed
 
 #: Extrapolate the warm start of each step linearly from the last two (see ``solve_coupled``).
 EXTRAPOLATE = True
 
-__all__ = ["CyclePath", "cycle_path", "HysteresisRun", "hysteresis_loop", "loop_energies"]
-
-
-@dataclass
-class CyclePath:
-    """Values of a cyclic tangential path.
-
-    Attributes
-    ----------
-    values : ndarray
-        Force (N) or displacement (m) along the path direction, one per step (not the start).
-    cycle : ndarray of int
-        0 for the initial loading, then 1..cycles.
-    branch : ndarray of str
-        "loading" (0 -> +), "unloading" (+ -> -), "reloading" (- -> +).
-    turning : ndarray of bool
-        True at a turning point (the last step of a branch).
-    control : {"force", "displacement"}
-    """
-
-    values: np.ndarray
-    cycle: np.ndarray
-    branch: np.ndarray
-    turning: np.ndarray
-    control: str
+__all__ = ["cycle_path", "hysteresis_loop", "loop_energies"]
 
 
 def _branch(start: float, end: float, m: int) -> np.ndarray:
@@ -132,42 +108,6 @@ def cycle_path(peak: float, cycles: int, steps: int, control: str = "force") -> 
         add(peak, -peak, m, c, "unloading")
         add(-peak, peak, m, c, "reloading")
     return CyclePath(np.array(vals), np.array(cyc), np.array(br, dtype=object), np.array(turn), control)
-
-
-@dataclass
-class HysteresisRun:
-    """The states of a hysteresis run.
-
-    Attributes
-    ----------
-    start : CoupledResult
-        The one-shot state at F_t = 0 (Paper E point A).
-    steps : list of CoupledResult
-        One per value of ``path`` (fewer if the run stopped).
-    path : CyclePath
-    direction : ndarray
-        Unit vector of the tangential load.
-    peak_force : float
-        F* (N) for force control; NaN for displacement control.
-    failed : list of int
-        Steps whose solve did not converge (the run goes on; flagged in summary and report).
-    message : str
-    dissipation : list of ndarray
-        Frictional dissipation per cycle (J/m^2): sum over the cycle's steps of q . ds.
-    accumulated_slip : list of ndarray
-        Accumulated slip length per cycle (m): sum of |ds|.
-    """
-
-    start: object
-    steps: list
-    path: CyclePath
-    direction: np.ndarray
-    peak_force: float = float("nan")
-    failed: list = field(default_factory=list)
-    message: str = ""
-    dissipation: list = field(default_factory=list)
-    accumulated_slip: list = field(default_factory=list)
-    offsets: list = field(default_factory=list)
 
 
 def hysteresis_loop(

@@ -22,13 +22,12 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
 import numpy as np
 
 from ..errors import ConvergenceWarning, InputError
-from ..results import CoupledResult
+from ..results import CoupledResult, SlipRamp
 from .coupling import solve_coupled
 from .tangential import GrossSlipError
 
@@ -36,7 +35,7 @@ from .tangential import GrossSlipError
 #: tangential and 22 % fewer normal iterations per state, same onset).
 EXTRAPOLATE = True
 
-__all__ = ["SlipRamp", "tangential_ramp", "normal_path", "stick_radius_ratio", "direction_vector"]
+__all__ = ["tangential_ramp", "stick_radius_ratio", "direction_vector"]
 
 
 def direction_vector(direction_deg: float) -> np.ndarray:
@@ -78,52 +77,6 @@ def stick_radius_ratio(res: CoupledResult) -> float:
         for circular contacts; 0 without stick.
     """
     return math.sqrt(max(res.tangential.stick_ratio, 0.0))
-
-
-@dataclass
-class SlipRamp:
-    """A tangential ramp at a fixed normal load.
-
-    Attributes
-    ----------
-    steps : list of CoupledResult
-        One per solved value of the ramp (up to and including the first gross-slip step).
-    values : list of float
-        The ramp values (N for force control, m for displacement control) of ``steps``.
-    control : {"force", "displacement"}
-    direction : ndarray
-        Unit vector of the ramp.
-    gross_slip : bool
-        The ramp reached gross slip.
-    onset : float
-        Tangential force (N) at the gross-slip onset (NaN when not reached), the midpoint of the
-        final bracket.
-    onset_bracket : tuple of float
-        (last value with stick, first value without) after refinement.
-    onset_ratio : float
-        onset / (mu F0+) with F0+ of the state at the onset.
-    presliding_displacement : float
-        delta along the ramp at the onset (last state with stick) minus delta at F_t = 0 (m).
-    max_force : float
-        With a force beyond what the contact carries: the largest force with an equilibrium.
-    message : str
-    """
-
-    steps: list
-    values: list
-    control: str
-    direction: np.ndarray
-    gross_slip: bool = False
-    onset: float = float("nan")
-    onset_bracket: tuple = (float("nan"), float("nan"))
-    onset_ratio: float = float("nan")
-    presliding_displacement: float = float("nan")
-    onset_state: CoupledResult | None = None
-    zero_state: CoupledResult | None = None
-    max_force: float = float("nan")
-    message: str = ""
-    refine_steps: int = 0
-    extra: dict = field(default_factory=dict)
 
 
 def _along(res: CoupledResult, e: np.ndarray, what: str) -> float:
@@ -575,55 +528,3 @@ def _extrapolate_onset(pts):
     return onset(1.0)
 
 
-def normal_path(
-    operator,
-    gap,
-    *,
-    normal_forces: Sequence[float],
-    friction_coefficient: float,
-    tangential_forces: Sequence[float] | None = None,
-    direction: float = 0.0,
-    interaction=None,
-    slip: str = "incremental",
-    progress: Callable[[int, int], None] | None = None,
-    **solver_kw,
-) -> list:
-    """A normal-load path with friction, the tangential state carried step to step.
-
-    Parameters
-    ----------
-    normal_forces : sequence of float
-        Normal force of each step (N).
-    tangential_forces : sequence of float, optional
-        Tangential force along ``direction`` of each step (N), paired with ``normal_forces``;
-        default 0.
-    slip : {"incremental", "total"}
-        "incremental" (default) carries the history (the reference of a step is the previous
-        step's relative displacement; a node entering the contact takes it as well).
-
-    Returns
-    -------
-    list of CoupledResult
-        One per step.  A step with a force beyond mu F0+ raises GrossSlipError.
-    """
-    e = direction_vector(direction)
-    forces = [float(f) for f in normal_forces]
-    if tangential_forces is None:
-        tangential_forces = [0.0] * len(forces)
-    if len(tangential_forces) != len(forces):
-        raise InputError("normal_path.tangential_forces", f"must pair with load.forces: {len(tangential_forces)} "
-                                                       f"values for {len(forces)} normal forces")
-    out: list = []
-    prev = None
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        for k, (fn, ft) in enumerate(zip(forces, tangential_forces)):
-            ref = prev.tangential.relative_displacement if (prev is not None and slip == "incremental") else None
-            res = solve_coupled(operator, gap, friction_coefficient=friction_coefficient, normal_force=fn,
-                                tangential_force=tuple(float(ft) * e), interaction=interaction, reference=ref,
-                                initial=prev, **solver_kw)
-            out.append(res)
-            prev = res
-            if progress:
-                progress(k + 1, len(forces))
-    return out

@@ -41,24 +41,22 @@ The package, one module per concern (each imports only the ones above it):
 """
 
 from .._solver_version import SOLVER_VERSION  # re-exported; the hashes read it at call time
-from .cache import pending, point_hash, point_tasks, read_points, solver_options, write_record
-from .command import default_outdir, interrupted_message, sweep_command
+from .cache import point_hash, read_points, solver_options
+from .command import sweep_command
 from .execute import SweepResult, run_sweep
-from .point import RECORD_VERSION, extract_outputs, failed_record, run_point
-from .results import RESERVED, gather, write_results
-from .spec import SCENARIO_SECTIONS, SPEC_KEYS, SweepSpec, load_sweep
-from .values import apply_overrides, flatten, set_dotted
+from .results import gather
+from .spec import SweepSpec, load_sweep
+from .values import apply_overrides, flatten
 
 __all__ = [
     # the sweep file
-    "SweepSpec", "load_sweep", "SPEC_KEYS", "SCENARIO_SECTIONS",
+    "SweepSpec", "load_sweep",
     # running it
-    "run_sweep", "SweepResult", "sweep_command", "default_outdir", "interrupted_message",
-    # points, hashes, records
-    "point_hash", "point_tasks", "solver_options", "SOLVER_VERSION", "run_point", "failed_record",
-    "extract_outputs", "RECORD_VERSION", "read_points", "write_record", "pending",
+    "run_sweep", "SweepResult", "sweep_command",
+    # points and hashes
+    "point_hash", "solver_options", "SOLVER_VERSION", "read_points",
     # gathering
-    "gather", "write_results", "RESERVED",
+    "gather",
     # values
-    "flatten", "set_dotted", "apply_overrides",
+    "flatten", "apply_overrides",
 ]

@@ -36,19 +36,13 @@ from typing import Callable, Iterable
 from ..errors import InputError
 from .adhesion import (
     MD_LAMBDAS,
-    GuduruProblem,
-    MaugisDugdaleProblem,
-    guduru_analytic_path,
     guduru_compare,
     guduru_extrema,
-    guduru_path,
     guduru_problem,
     guduru_rows,
     maugis_dugdale_problem,
     maugis_dugdale_rows,
-    md_cells_cohesive,
     md_pull_off,
-    md_pull_off_rows,
     md_pull_off_scan,
 )
 from .common import PAIR, SILICA, CaseFunction, ValidationRow, _row, _solve  # noqa: F401 (re-exported)
@@ -56,10 +50,9 @@ from .gate import gate_rows
 
 __all__ = [
     "CASES", "PHYSICS", "PHYSICS_CASES", "LEVELS", "ValidationRow", "run_validation",
-    "MaugisDugdaleProblem", "maugis_dugdale_problem", "md_cells_cohesive", "md_pull_off_scan", "maugis_dugdale_rows",
-    "md_pull_off_rows",
-    "GuduruProblem", "guduru_problem", "guduru_analytic_path", "guduru_rows", "guduru_compare",
-    "guduru_extrema", "guduru_path", "md_pull_off", "MD_LAMBDAS",
+    "maugis_dugdale_problem", "md_pull_off_scan", "maugis_dugdale_rows",
+    "guduru_problem", "guduru_rows", "guduru_compare",
+    "guduru_extrema", "md_pull_off", "MD_LAMBDAS",
 ]
 
 #: The physics modules, in the order their cases run: one line per physics.

@@ -21,7 +21,7 @@ Cases (:data:`CASES`)
     :func:`maugis_dugdale_rows`).
 ``md_pull_off``
     Pull-off force of the same sphere by displacement-controlled unloading
-    (:func:`tribobem.solvers.paths.pull_off`) vs the Maugis-Dugdale pull-off, 3%.  Quick:
+    (:func:`tribobem.solvers.normal_paths.pull_off`) vs the Maugis-Dugdale pull-off, 3%.  Quick:
     lambda = 1; full: all six (lambda = 5 by a short scan about the analytic pull-off approach,
     :func:`md_pull_off_scan`: the continuation would need ~60 solves on 1248^2).
 ``md_grid_band``
@@ -67,7 +67,7 @@ from ..errors import ConvergenceWarning, InputError
 from ..geometry.shapes import sphere, wavy_sphere
 from ..grid import Grid
 from ..interactions.dugdale import DugdaleAdhesion
-from ..solvers.paths import approach_curve, pull_off, solve_at_force
+from ..solvers.normal_paths import approach_curve, pull_off, solve_at_force
 from .common import PAIR, ValidationRow, _row, _solve
 
 __all__ = [
@@ -260,7 +260,7 @@ def maugis_dugdale_rows(prob: MaugisDugdaleProblem, *, forces: Sequence[float] |
     ``force_path``: how the force-control points are solved: ``"direct"``, a force-controlled
     solve from zero pressure; ``"approach"``, loading under displacement control from the first
     touch to the first force and on along the branch to the next ones, interpolating the
-    force-approach curve (:func:`tribobem.solvers.paths.solve_at_force`, force within 1e-3).
+    force-approach curve (:func:`tribobem.solvers.normal_paths.solve_at_force`, force within 1e-3).
     Default: ``"approach"`` for lambda >= 5, where the direct solve stalls on the 1248^2 grid
     (no progress in 2000 iterations at F = pi R dgamma), else ``"direct"``.
 
@@ -340,7 +340,7 @@ def maugis_dugdale_rows(prob: MaugisDugdaleProblem, *, forces: Sequence[float] |
 
 def md_pull_off(prob: MaugisDugdaleProblem, *, n_steps: int = 24, refine: int = 8, solver_tol: float = 1e-9):
     """Pull-off of the Maugis-Dugdale problem by displacement-controlled unloading from
-    F = pi R dgamma (:func:`tribobem.solvers.paths.pull_off`).
+    F = pi R dgamma (:func:`tribobem.solvers.normal_paths.pull_off`).
 
     Parameters
     ----------
@@ -368,7 +368,7 @@ def md_pull_off_scan(prob: MaugisDugdaleProblem, *, D_start: float = 0.3, half_w
                      step: float = 0.15, solver_tol: float = 1e-9) -> tuple[float, float]:
     """Pull-off force from a short displacement-controlled scan around the analytic pull-off.
 
-    For large lambda the continuation of :func:`tribobem.solvers.paths.pull_off` (steps of
+    For large lambda the continuation of :func:`tribobem.solvers.normal_paths.pull_off` (steps of
     h0/4 once the force is tensile) needs ~60 solves, far too many on the 1248^2 grid of
     lambda = 5 (cost: benchmarks/README.md).  Here the approach runs under displacement control from
     ``D_start`` > 0 (a cold start at a positive approach lands on the stable large-contact
@@ -697,7 +697,7 @@ def guduru_compare(prob: GuduruProblem, D_top: float = 3.2, D_bottom: float = -1
         numerical and analytic forces (units of pi dgamma R), ``jumps`` the analytic jumps of
         at least ``min_jump`` (each with ``num_jump``, ``ana_jump`` and the bracketing
         ``step``), ``converged`` per point and ``curve`` the numerical
-        :class:`~tribobem.solvers.paths.LoadCurve`.
+        :class:`~tribobem.results.LoadCurve`.
     """
     down = guduru_path(prob, D_top, D_bottom, step, eps)
     with warnings.catch_warnings():

@@ -30,7 +30,7 @@ Cases (:data:`CASES`)
     Pull-off of a rigid sharp flat punch (b = 1 um) from an incompressible body with a Dugdale
     law (h0 = 1 nm, sigma0 chosen for a cohesive zone d = pi E* h0/(4 sigma0) = 0.1 b quick,
     0.05 b full), by displacement-controlled unloading from zero load
-    (:func:`~tribobem.solvers.paths.pull_off`), against Kendall's sqrt(8 pi E* dgamma b^3).
+    (:func:`~tribobem.solvers.normal_paths.pull_off`), against Kendall's sqrt(8 pi E* dgamma b^3).
     Kendall is the limit d/b -> 0 (the JKR-like end of the Maugis transition); the finite zone
     lowers the pull-off by O(d/b), so the tolerance is d/b.  Quick: d/b = 0.1 with 3 cells on d
     (66^2); full: d/b = 0.05 with 6 cells on d (264^2, about 15 s).  Measured: -1.0 % (quick,
@@ -66,7 +66,7 @@ from ..grid import Grid
 from ..interactions.dugdale import DugdaleAdhesion
 from ..materials import ContactPair, Material
 from ..solvers.normal import solve_normal
-from ..solvers.paths import pull_off
+from ..solvers.normal_paths import pull_off
 from ..solvers.tangential import solve_tangential
 from .common import PAIR, ValidationRow, _row, _solve
 

@@ -6,7 +6,7 @@ SiO2 sphere (R = 1 um, SiO2 film) on an elastic Si flat (130 GPa; Si film), free
 0.3 um, normal force F = 1 uN, mu = 0.3, the water-solid van der Waals terms off unless a case
 says otherwise.  The scenarios are built by the scenario code (:func:`_problem`: films, Hamaker
 constants and the capillary options exactly as a run gets them); the ramps and loops are those of
-the runs (:func:`~tribobem.solvers.slip_paths.tangential_ramp`,
+the runs (:func:`~tribobem.solvers.tangential_paths.tangential_ramp`,
 :func:`~tribobem.solvers.hysteresis.hysteresis_loop`).  Quick: 32^2; full: 64^2.
 
 Cases
@@ -103,7 +103,7 @@ Cases
     the run's (1e-9: the same states).
 
 RH = 1 and mu = 0 (the reliability checks of the issue) are tests only
-(tests/test_validation_humid_friction.py).
+(tests/validation/test_validation_humid_friction.py).
 """
 
 from __future__ import annotations
@@ -122,7 +122,7 @@ from ..scenario.build import build_problem
 from ..scenario.run import load_scenario, run_scenario
 from ..solvers.coupling import solve_coupled
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
-from ..solvers.slip_paths import tangential_ramp
+from ..solvers.tangential_paths import tangential_ramp
 from .common import ValidationRow, _row
 
 __all__ = ["CASES", "scenario", "problem", "ramp", "loop_balance", "LOOP_STEP_BAR"]

@@ -71,7 +71,7 @@ from ..interactions.dugdale import DugdaleAdhesion
 from ..materials import ContactPair, Material
 from ..solvers.coupling import solve_coupled
 from ..solvers.hysteresis import hysteresis_loop, loop_energies
-from ..solvers.slip_paths import tangential_ramp
+from ..solvers.tangential_paths import tangential_ramp
 from ..solvers.tangential import GrossSlipError
 from .references import PAPER_E_SMOOTH_REPULSIVE_FORCE
 

@@ -57,7 +57,7 @@ from ..grid import Grid
 from ..materials import ContactPair, Material
 from ..solvers.coupling import solve_coupled
 from ..solvers.normal import solve_normal
-from ..solvers.slip_paths import normal_path
+from ..solvers.normal_paths import normal_path
 from ..solvers.tangential import solve_tangential
 from .common import _row
 

@@ -22,23 +22,22 @@ chosen from the data (nm / µm, kPa / MPa / GPa, nN / µN).  Files are written a
 """
 
 from ...analytic.friction_loops import kl_reference, kl_reference_values, loop_reference, mindlin_reference
-from .humid_maps import humid_stickslip_figure, humid_stickslip_steps
-from .hysteresis import (dissipation_figure, hysteresis_figures, hysteresis_loop_figure, lateral_stiffness_figure,
-                         loop_map_steps, loop_stickslip_figure, turning_point_letters)
+from .humid_maps import humid_stickslip_steps
+from .hysteresis import (hysteresis_figures, hysteresis_loop_figure, loop_map_steps, loop_stickslip_figure, turning_point_letters)
 from .load_curve import force_curve_figure
-from .maps import contact_figure, pressure_figure, profile_figure, topography_figure
-from .sets import (FIGURE_NAMES, FIGURE_SETS, capillary_run_figures, friction_figures, humid_friction_run_figures,
-                   hysteresis_run_figures, load_curve_figures, make_figures, map_figures)
-from .stickslip import (_segments, _stickslip_axes, meniscus_mask, stick_normal_figure, stick_ratio_figure,
-                        stickslip_figure, stickslip_steps)
+from .maps import profile_figure
+from .sets import (FIGURE_NAMES, FIGURE_SETS, make_figures)
+from .stickslip import (_segments, _stickslip_axes, meniscus_mask, stickslip_figure)
 
-__all__ = ["FIGURE_NAMES", "make_figures", "topography_figure", "pressure_figure", "contact_figure",
-           "profile_figure", "force_curve_figure", "stickslip_figure", "stickslip_steps", "stick_ratio_figure",
-           "stick_normal_figure", "turning_point_letters", "mindlin_reference", "loop_reference", "kl_reference",
-           "kl_reference_values",
-           "hysteresis_loop_figure", "lateral_stiffness_figure", "dissipation_figure", "loop_map_steps",
-           "loop_stickslip_figure", "hysteresis_figures", "FIGURE_SETS", "load_curve_figures", "friction_figures",
-           "hysteresis_run_figures", "capillary_run_figures", "map_figures", "meniscus_mask",
-           "humid_stickslip_steps", "humid_stickslip_figure", "humid_friction_run_figures",
-           # private helpers the tests use
-           "_segments", "_stickslip_axes"]
+__all__ = [
+    "FIGURE_NAMES", "FIGURE_SETS", "make_figures",
+    # figures
+    "profile_figure", "force_curve_figure", "stickslip_figure",
+    "hysteresis_loop_figure", "loop_stickslip_figure", "hysteresis_figures",
+    # what the figures show
+    "turning_point_letters", "loop_map_steps", "meniscus_mask", "humid_stickslip_steps",
+    # the analytic references drawn beside a run (tribobem.analytic.friction_loops)
+    "mindlin_reference", "loop_reference", "kl_reference", "kl_reference_values",
+    # private helpers the tests use
+    "_segments", "_stickslip_axes",
+]
