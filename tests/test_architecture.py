@@ -25,7 +25,7 @@ LAYERS = {
     "interactions": 3,
     "solvers": 4,
     "output": 5,
-    "analysis": 6,
+    "analysis": 6, "two_scale": 6,
     "runs": 7,
     "scenario": 8,
     "sweep": 9, "validation": 9,

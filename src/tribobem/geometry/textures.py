@@ -258,7 +258,15 @@ def waviness(grid: Grid, amplitude: float, wavelength: float, angle: float = 0.0
     return A * np.cos(2.0 * np.pi * u / lam)
 
 
-def check_body_geometry(body, dx: float, dy: float, lengths, name: str) -> None:
+def texture_fits_window(pitch: float, window: float) -> bool:
+    """Whether a texture of period ``pitch`` (m) tiles a periodic window of side ``window`` (m):
+    the window holds a whole number (>= 1) of periods (to 1e-6).  A two-scale run solves such a
+    texture in its micro windows and a longer one at macro scale."""
+    k = window / pitch
+    return k >= 1 - 1e-6 and abs(k - round(k)) <= 1e-6 * max(1.0, k)
+
+
+def check_body_geometry(body, dx: float, dy: float, lengths, name: str, window=None) -> None:
     """Refuse a body's texture, waviness or burl that the grid cannot represent.
 
     Parameters
@@ -272,6 +280,9 @@ def check_body_geometry(body, dx: float, dy: float, lengths, name: str) -> None:
         Sides ``lx, ly`` of the domain (m).
     name : str
         ``"body1"`` or ``"body2"``, for the keys named in errors.
+    window : (float, int), optional
+        A two-scale run's micro window: its side (m) and cells per side.  A texture that tiles
+        it (:func:`texture_fits_window`) is checked against the window's cells instead.
 
     Raises
     ------
@@ -283,7 +294,11 @@ def check_body_geometry(body, dx: float, dy: float, lengths, name: str) -> None:
     cell = max(float(dx), float(dy))
     tex = getattr(body, "texture", None)
     if tex is not None:
-        check_resolution(tex.kind, float(tex.pitch), float(tex.size), cell, f"{name}.texture")
+        if window is not None and texture_fits_window(float(tex.pitch), float(window[0])):
+            check_resolution(tex.kind, float(tex.pitch), float(tex.size), float(window[0]) / int(window[1]),
+                             f"{name}.texture")
+        else:
+            check_resolution(tex.kind, float(tex.pitch), float(tex.size), cell, f"{name}.texture")
     wav = getattr(body, "waviness", None)
     if wav is not None and float(wav.wavelength) < MIN_CELLS * cell * (1 - 1e-9):
         raise InputError(f"{name}.waviness.wavelength",

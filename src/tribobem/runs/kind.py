@@ -29,7 +29,7 @@ ALL = "*"
 
 #: The scenario sections (tables) in file order; ``kind``, ``name``, ``description`` and
 #: ``expected`` are top-level metadata that every kind accepts.
-SECTIONS = ("grid", "body1", "body2", "load", "adhesion", "friction", "humidity", "solver", "output")
+SECTIONS = ("grid", "body1", "body2", "load", "adhesion", "friction", "humidity", "two_scale", "solver", "output")
 
 #: The body keys every kind reads (the films' keys ``film`` and ``hamaker`` belong to the
 #: capillary kinds); ``texture`` and ``waviness`` add to the body's topography like

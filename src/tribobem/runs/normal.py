@@ -15,9 +15,10 @@ from ..errors import ConvergenceWarning
 from ..solvers.normal import solve_normal
 from ..solvers.normal_paths import approach_curve, force_curve
 from .common import approach_below_full_contact, scenario_errors, step_row
-from .kind import RunKind, RunOutput, fail, positive_normal_load, require_elastic_body
+from .kind import ALL, RunKind, RunOutput, fail, positive_normal_load, require_elastic_body
 from .kind import NORMAL_COLUMNS
 from .settings import SolverSettings
+from .two_scale import run_normal as run_two_scale
 
 __all__ = ["run", "check", "KIND"]
 
@@ -48,6 +49,8 @@ def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
     sc, load = pb.scenario, pb.scenario.load
     if settings is None:
         settings = SolverSettings.from_scenario(sc)
+    if pb.two_scale is not None:  # [two_scale]: micro windows, then the macro solve
+        return run_two_scale(pb, bar, settings)
     kw = settings.normal_kw()
     inter = pb.interaction
     approach_below_full_contact(pb)
@@ -115,6 +118,15 @@ def check(sc) -> None:
         fail("load.unload", f"traces a list of loads back down (load.forces or load.approaches); a single "
                             f"load.{given[0]} has no unloading branch")
     positive_normal_load(sc)
+    if sc.two_scale is not None:
+        if given[0] not in ("force", "forces"):
+            fail(f"load.{given[0]}", "a two-scale run is force-controlled: give load.force or load.forces")
+        if "unload" in load.model_fields_set and load.unload:
+            fail("load.unload", "a two-scale run traces the loading branch (the normal interface law has no "
+                                "unloading hysteresis without adhesion); leave unload out")
+        if sc.adhesion.model != "none":
+            fail("adhesion.model", "a two-scale normal run takes a non-adhesive interface; adhesive interface "
+                                   "laws (the tensile branch) are not available yet: run the whole grid")
 
 
 KIND = RunKind(
@@ -123,5 +135,5 @@ KIND = RunKind(
     figures=("load_curve", "maps"),
     columns=NORMAL_COLUMNS,
     results={"pull_off_force": "force", "pull_off_approach": "length", "hysteresis_energy": "energy"},
-    uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",)},
+    uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",), "two_scale": ALL},
 )

@@ -953,6 +953,50 @@ class HumiditySpec(Section):
         return "closed" if self.levelling == "thin_film" else "open"
 
 
+class TwoScaleSpec(Section):
+    """``[two_scale]``: solve the contact at two scales instead of on one grid.
+
+    The rough interface is solved on periodic micro windows (the bodies' roughness and the
+    textures whose period divides the window, at asperity resolution) at a ladder of nominal
+    pressures; their mean gap against pressure, averaged over roughness realisations, is the
+    interface law with which the macro problem (``[grid]``: the bodies' shapes, waviness and
+    long textures, at macro cells) is solved.  Without the section the whole problem is solved
+    on ``[grid]``, roughness included.
+
+    ============  =====  ===========  ==================================================
+    key           unit   default      meaning
+    ============  =====  ===========  ==================================================
+    window        m      required     side of the periodic micro window
+    window_n      -      256          cells per side of the window (>= 8)
+    realisations  -      4            roughness realisations (seeds seed, seed + 1, ...)
+    pressures     -      32           nominal pressures of the table (>= 4)
+    min_pressure  Pa     automatic    smallest tabulated pressure
+    max_pressure  Pa     automatic    largest tabulated pressure
+    scheduler     -      synchronous  micro windows: ``synchronous``, ``threads``,
+                                      ``processes`` or a Dask scheduler address
+    cache         -      true         reuse tables computed before (same windows)
+    ============  =====  ===========  ==================================================
+
+    Automatic range: from 1e-3 of the mean nominal pressure over the smooth macro contact to
+    twice its largest pressure (solved first, in a fraction of the macro time).
+    """
+
+    window: Quantity("length", gt=0)
+    window_n: Int(ge=8) = 256
+    realisations: Int(ge=1) = 4
+    pressures: Int(ge=4) = 32
+    min_pressure: Optional[Quantity("pressure", gt=0)] = None
+    max_pressure: Optional[Quantity("pressure", gt=0)] = None
+    scheduler: str = "synchronous"
+    cache: StrictBool = True
+
+    @model_validator(mode="after")
+    def _range(self):
+        if self.min_pressure is not None and self.max_pressure is not None and self.min_pressure >= self.max_pressure:
+            _fail("max_pressure", f"must exceed min_pressure ({self.min_pressure:g} Pa), got {self.max_pressure:g} Pa")
+        return self
+
+
 class SolverSpec(Section):
     """``[solver]``: ``tolerance``, ``max_iterations``, ``backend`` (numpy | cupy; cupy grids below
     1024^2 nodes run on NumPy, faster there, see ``TRIBOBEM_CUPY_MIN_NODES``), ``kernel``
@@ -1079,6 +1123,7 @@ class Scenario(Section):
     adhesion: Adhesion = Field(default_factory=lambda: NoAdhesionSpec(model="none"))
     friction: Optional[FrictionSpec] = None
     humidity: Optional[HumiditySpec] = None
+    two_scale: Optional[TwoScaleSpec] = None
     solver: SolverSpec = Field(default_factory=SolverSpec)
     output: OutputSpec = Field(default_factory=OutputSpec)
     expected: Optional[ExpectedSpec] = None
@@ -1124,9 +1169,10 @@ def _geometry_fits_grid(sc: "Scenario") -> None:
     nx, ny = sc.grid.shape
     if lengths is None or nx is None:
         return
+    window = (sc.two_scale.window, sc.two_scale.window_n) if sc.two_scale is not None else None
     for name in ("body1", "body2"):
         try:
-            check_body_geometry(getattr(sc, name), lengths[0] / nx, lengths[1] / ny, lengths, name)
+            check_body_geometry(getattr(sc, name), lengths[0] / nx, lengths[1] / ny, lengths, name, window=window)
         except InputError as exc:
             _fail(exc.field, exc.reason)
 

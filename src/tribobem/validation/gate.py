@@ -129,6 +129,8 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
     "humid_force_balance": "full", "humid_loop_energy": "full",
     # burl (about 25 s on 2 cores, the kendall pull-off on 264^2 most of it)
     "rounded_punch": "full", "flat_punch": "full", "burl_stiffness": "full", "kendall": "full", "texture_cell": "full",
+    # two_scale (seconds: the whole burls' numbers are committed, only the two-scale side runs)
+    "two_scale_smooth": "full", "two_scale_layer": "full", "two_scale_whole_burl": "full",
 }
 
 

@@ -1,0 +1,207 @@
+"""Micro scale: the normal law of a rough interface from periodic windows.
+
+Each window is a periodic cell of the two bodies' combined roughness (and of the textures whose
+period divides it) at asperity resolution.  It is pressed through a ladder of nominal pressures
+p_k under force control, warm-started step to step (:func:`tribobem.solvers.normal_paths.
+force_curve`), and gives at each p_k the mean gap of its mean planes (the window's mean gap:
+the q = 0 displacement of a periodic cell is zero, so the window carries only its own,
+micro-scale elasticity; the macro operator carries the rest), the real contact fraction and
+the largest local pressure.  The realisations are averaged into a
+:class:`~tribobem.two_scale.laws.NormalInterfaceLaw`.
+
+Tables are cached on disk, keyed by a SHA-256 of everything that sets them (the window's gap
+array, grid, the two materials, the interaction, the pressures, the solver tolerance and
+:data:`tribobem._solver_version.SOLVER_VERSION`), so that reruns and design variants that share
+roughness, materials and loads reuse them.  The windows are independent: they run through Dask
+(``scheduler``: ``"synchronous"``, ``"threads"``, ``"processes"`` or the address of a
+``dask.distributed`` scheduler).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._solver_version import SOLVER_VERSION
+from ..elasticity.operators import periodic_operator
+from ..errors import ConvergenceWarning, InputError
+from ..grid import Grid
+from ..materials import ContactPair
+from ..solvers.normal_paths import force_curve
+from .laws import NormalInterfaceLaw
+
+__all__ = ["MicroWindows", "window_table", "interface_law", "default_cache_dir"]
+
+
+@dataclass
+class MicroWindows:
+    """The micro windows of a two-scale run (built from ``[two_scale]`` and the bodies).
+
+    Attributes
+    ----------
+    grid : Grid
+        The periodic window grid (m).
+    pair : ContactPair
+        The two bodies' materials.
+    gaps : list of ndarray
+        One initial gap per realisation (m, minimum 0): the combined roughness (and short
+        textures) of the two bodies.
+    interaction : Interaction or None
+        The stress law outside contact (None: dry, non-adhesive).
+    info : dict
+        How the windows were made (window size, cells, seeds, which textures went to the
+        windows), for the summary.
+    """
+
+    grid: Grid
+    pair: ContactPair
+    gaps: list
+    interaction: Any = None
+    info: dict = field(default_factory=dict)
+
+
+def default_cache_dir() -> Path:
+    """Where tables are cached: ``$TRIBOBEM_CACHE/two_scale`` or ``~/.cache/tribobem/two_scale``."""
+    root = os.environ.get("TRIBOBEM_CACHE")
+    base = Path(root) if root else Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "tribobem"
+    return base / "two_scale"
+
+
+def _table_key(grid: Grid, pair: ContactPair, gap: np.ndarray, interaction, pressures, tol: float,
+               max_iterations: int) -> str:
+    h = hashlib.sha256()
+    h.update(np.ascontiguousarray(gap, dtype=np.float64).tobytes())
+    meta = {"grid": [grid.nx, grid.ny, grid.lx, grid.ly], "pair": repr(pair), "interaction": repr(interaction),
+            "pressures": [float(p).hex() for p in pressures], "tol": tol, "max_iterations": max_iterations,
+            "solver_version": SOLVER_VERSION}
+    h.update(json.dumps(meta, sort_keys=True).encode())
+    return h.hexdigest()
+
+
+def window_table(grid: Grid, pair: ContactPair, gap: np.ndarray, pressures, *, interaction=None,
+                 tol: float = 1e-8, max_iterations: int = 10000) -> dict:
+    """One window's table: mean gap, contact fraction and peak pressure at each pressure.
+
+    Parameters
+    ----------
+    grid : Grid
+        Periodic window grid (m).
+    pair : ContactPair
+        The materials.
+    gap : ndarray
+        The window's initial gap (m, minimum 0).
+    pressures : sequence of float
+        Nominal pressures (Pa), increasing.
+    interaction : Interaction, optional
+        Stress law outside contact.
+    tol, max_iterations : float, int
+        Normal solver settings of every step.
+
+    Returns
+    -------
+    dict
+        ``gaps`` (m), ``touch_gap`` (m: the mean gap at first touch), ``contact_fractions``,
+        ``max_pressures`` (Pa), ``converged`` and ``iterations`` (per pressure).
+    """
+    op = periodic_operator(grid, pair)
+    area = grid.lx * grid.ly
+    forces = [float(p) * area for p in pressures]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)  # carried in ``converged``
+        curve = force_curve(op, gap, forces, interaction=interaction, unload=False, tol=tol,
+                            max_iterations=max_iterations)
+    steps = list(curve.steps)
+    if len(steps) != len(forces):
+        raise InputError("two_scale.pressures", f"the window solved {len(steps)} of {len(forces)} pressures")
+    return {
+        "gaps": [float(s["mean_gap"]) for s in steps],
+        "touch_gap": float(np.mean(gap)),
+        "contact_fractions": [float(s["contact_area"]) / area for s in steps],
+        "max_pressures": [float(s["max_pressure"]) for s in steps],
+        "converged": [bool(s["converged"]) for s in steps],
+        "iterations": [int(s["iterations"]) for s in steps],
+    }
+
+
+def _cached_table(args: tuple, cache_dir: str | None) -> dict:
+    """:func:`window_table` of ``args``, read from or written to ``cache_dir`` (None: no cache)."""
+    grid, pair, gap, pressures, interaction, tol, max_iterations = args
+    path = None
+    if cache_dir is not None:
+        key = _table_key(grid, pair, gap, interaction, pressures, tol, max_iterations)
+        path = Path(cache_dir) / f"{key}.json"
+        if path.exists():
+            try:
+                table = json.loads(path.read_text())
+                table["cached"] = True
+                return table
+            except (OSError, ValueError):
+                pass  # unreadable (e.g. written by a killed run): recompute
+    table = window_table(grid, pair, gap, pressures, interaction=interaction, tol=tol, max_iterations=max_iterations)
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".tmp{os.getpid()}")
+        tmp.write_text(json.dumps(table))
+        os.replace(tmp, path)  # atomic: a reader sees the whole table or none
+    table["cached"] = False
+    return table
+
+
+def _compute(tasks: list, cache_dir, scheduler: str) -> list:
+    if scheduler == "synchronous" or len(tasks) == 1:
+        return [_cached_table(t, cache_dir) for t in tasks]
+    import dask
+
+    delayed = [dask.delayed(_cached_table)(t, cache_dir) for t in tasks]
+    if scheduler in ("threads", "processes"):
+        return list(dask.compute(*delayed, scheduler=scheduler))
+    from dask.distributed import Client  # an address: a running dask.distributed scheduler
+
+    with Client(scheduler) as client:
+        return list(dask.compute(*delayed, scheduler=client))
+
+
+def interface_law(windows: MicroWindows, pressures, *, tol: float = 1e-8, max_iterations: int = 10000,
+                  scheduler: str = "synchronous", cache: bool = True, cache_dir=None) -> NormalInterfaceLaw:
+    """The normal interface law of ``windows`` at ``pressures`` (averaged over the realisations).
+
+    Parameters
+    ----------
+    windows : MicroWindows
+        The windows (one gap per realisation).
+    pressures : sequence of float
+        Nominal pressures (Pa), increasing, > 0.
+    tol, max_iterations : float, int
+        Normal solver settings of the window solves.
+    scheduler : str
+        ``"synchronous"``, ``"threads"``, ``"processes"`` or a Dask scheduler address.
+    cache : bool
+        Read and write the tables in ``cache_dir``.
+    cache_dir : path, optional
+        Default :func:`default_cache_dir`.
+
+    Returns
+    -------
+    NormalInterfaceLaw
+        With ``info``: the windows' provenance, ``cached`` (how many tables were read from the
+        cache), ``iterations`` (total), ``not_converged`` (how many micro solves did not).
+    """
+    pressures = np.asarray(pressures, dtype=float)
+    if pressures.ndim != 1 or pressures.size < 3 or not np.all(np.diff(pressures) > 0) or pressures[0] <= 0:
+        raise InputError("two_scale.pressures", "the table needs at least 3 increasing positive pressures")
+    where = (str(cache_dir) if cache_dir is not None else str(default_cache_dir())) if cache else None
+    tasks = [(windows.grid, windows.pair, g, pressures, windows.interaction, tol, max_iterations) for g in windows.gaps]
+    tables = _compute(tasks, where, scheduler)
+    info = dict(windows.info)
+    info.update({"cached": int(sum(t.get("cached", False) for t in tables)),
+                 "iterations": int(sum(sum(t["iterations"]) for t in tables)),
+                 "not_converged": int(sum(len(t["converged"]) - sum(t["converged"]) for t in tables)),
+                 "solves": int(sum(len(t["converged"]) for t in tables))})
+    return NormalInterfaceLaw.from_realisations(pressures, tables, info)

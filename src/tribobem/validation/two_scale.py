@@ -1,0 +1,186 @@
+"""Validation of the two-scale solve (``[two_scale]``): closed forms and whole-burl solves.
+
+``two_scale_smooth``
+    A stiff interface (its mean gap changes by 1e-5 of the approach) on a rounded burl is the
+    smooth rounded punch: Sneddon's approach and contact radius
+    (:func:`tribobem.analytic.punch.rounded_punch`), to the grid's own error.
+``two_scale_layer``
+    A linear interface law g = g0 - p/k is a uniform compliant (Winkler) layer: on a periodic
+    sinusoidal macro gap in full contact the nominal pressure is exactly one harmonic,
+    P1 = A / (2/(E* q) + 1/k), and delta = A - g0 + P0/k.
+``two_scale_whole_burl``
+    A rough SiC burl on a Si wafer (Gaussian roughness 1.5 nm rms, 50 nm correlation length,
+    about 53 MPa over the flat top) solved whole at 10 nm cells (:data:`WHOLE_BURLS`: four
+    roughness realisations each, computed once by ``python -m studies.two_scale --whole``)
+    against the two-scale solve with windows at the same 10 nm cells: the approach of the mean
+    planes within 3 % of the rms roughness or the realisations' scatter (whichever is larger),
+    and the real contact area within 5 % or the scatter.  The quick tier solves the small burl
+    at 20 nm cells on both sides (the whole grid is then 512^2, seconds).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..analytic.punch import rounded_punch
+from ..elasticity import free_boundary_operator, periodic_operator
+from ..geometry.rough import gaussian_surface
+from ..geometry.shapes import burl
+from ..grid import Grid
+from ..materials import ContactPair, Material
+from ..two_scale.laws import NormalInterfaceLaw
+from ..two_scale.macro import solve_interface_normal
+from ..two_scale.micro import MicroWindows, interface_law
+from .common import ValidationRow, _row
+
+__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "PAIR", "RMS", "CORRELATION", "two_scale_burl"]
+
+#: The validation pair: Si wafer (body 1, rough) and SiC burl (body 2).
+PAIR = ContactPair(Material(130e9, 0.28), Material(410e9, 0.14))
+#: The wafer's roughness: rms (m) and correlation length (m) of a Gaussian surface.
+RMS, CORRELATION = 1.5e-9, 50e-9
+
+#: The validation burls (SI): flat-top radius, edge radius, force, grid side and whole-grid cells
+#: (10 nm cells).
+BURLS = {
+    "small": {"radius": 3e-6, "edge_radius": 20e-6, "force": 1.5e-3, "size": 10.24e-6, "n": 1024},
+    "large": {"radius": 6e-6, "edge_radius": 40e-6, "force": 6.0e-3, "size": 20.48e-6, "n": 2048},
+}
+
+#: Whole-burl solves at 10 nm cells, roughness seeds 100-103 (``python -m studies.two_scale
+#: --whole``, 2026-12-02: 3.5-4.4 s of CPU per 1024^2 solve, 23-26 s per 2048^2): the approach of
+#: the mean planes (m) and the real contact area (m^2), one value per realisation.
+WHOLE_BURLS: dict = {
+    "small": {"approach": [-9.25048e-10, -9.12428e-10, -9.94445e-10, -9.64812e-10],
+              "contact_area": [3.402e-13, 3.348e-13, 3.314e-13, 3.303e-13]},
+    "large": {"approach": [1.405635e-09, 1.389945e-09, 1.416646e-09, 1.394816e-09],
+              "contact_area": [1.3456e-12, 1.3145e-12, 1.3201e-12, 1.3304e-12]},
+}
+
+#: The whole small burl at 20 nm cells (512^2, seed 100): the quick tier's reference, which the
+#: quick tier recomputes (a second), so that it needs nothing committed.
+QUICK_N = 512
+
+
+def two_scale_burl(name: str, *, window: float = 1e-6, window_n: int | None = None, realisations: int = 4,
+                   macro_n: int = 128, cells_factor: int = 1, seed0: int = 0, pressures: int = 32) -> dict:
+    """The two-scale solve of validation burl ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`BURLS`.
+    window : float
+        Window side (m).
+    window_n : int, optional
+        Window cells; default: the whole grid's cells (10 nm) times ``cells_factor``.
+    realisations, macro_n : int
+        Roughness realisations of the windows; macro cells per side.
+    pressures : int
+        Tabulated pressures, from 1e-3 to 20 times the mean pressure over the flat top.
+    cells_factor : int
+        Window cells finer than the whole grid's by this factor (when ``window_n`` is None).
+    seed0 : int
+        Seed of the first realisation.
+
+    Returns
+    -------
+    dict
+        ``approach`` (m, of the mean planes), ``contact_area`` (m^2, real), ``nominal_area``,
+        ``max_pressure``, ``converged``, ``cpu_s``, the settings.
+    """
+    b = BURLS[name]
+    if window_n is None:
+        window_n = int(round(window / (b["size"] / b["n"]))) * cells_factor
+    t = time.process_time()
+    wgrid = Grid(window_n, window_n, window, window, periodic=True)
+    gaps = []
+    for k in range(realisations):
+        z = gaussian_surface(wgrid, RMS, CORRELATION, seed=seed0 + k)
+        gaps.append(z.max() - z)
+    mean_p = b["force"] / (math.pi * b["radius"] ** 2)
+    law = interface_law(MicroWindows(wgrid, PAIR, gaps), np.geomspace(1e-3 * mean_p, 20 * mean_p, pressures), cache=False)
+    grid = Grid(macro_n, macro_n, b["size"], b["size"])
+    res = solve_interface_normal(free_boundary_operator(grid, PAIR), burl(grid, b["radius"], b["edge_radius"]), law,
+                                 b["force"], tol=1e-9)
+    return {"approach": res.approach, "contact_area": res.real_contact_area, "nominal_area": res.nominal_area,
+            "max_pressure": res.max_pressure, "converged": bool(res.converged and law.converged),
+            "beyond_table": res.beyond_table, "cpu_s": time.process_time() - t, "window": window,
+            "window_n": window_n, "realisations": realisations, "macro_n": macro_n, "pressures": pressures}
+
+
+def _smooth_rows(quick: bool) -> list[ValidationRow]:
+    case = "two_scale_smooth"
+    pair = ContactPair(Material(100e9, 0.3), Material.rigid())
+    E = pair.effective_modulus
+    n = 96 if quick else 192
+    bb, Re = 1e-6, 5e-6
+    grid = Grid(n, n, 4e-6, 4e-6)
+    ps = np.geomspace(1e3, 1e11, 64)
+    law = NormalInterfaceLaw(ps, 1e-9 - 1e-14 * np.log(ps / 1e3), 1e-9 + 1e-14, np.full(64, 0.1), ps,
+                             np.zeros(64), np.zeros(64))
+    ref = rounded_punch(contact_radius=1.3 * bb, flat_radius=bb, edge_radius=Re, E_star=E)
+    res = solve_interface_normal(free_boundary_operator(grid, pair), burl(grid, bb, Re), law, float(ref.force), tol=1e-9)
+    tol = grid.dx / (2 * ref.contact_radius)  # the contact edge is known to half a cell (as validation.burl)
+    return [_row(case, "approach vs Sneddon (mean planes less the 1 nm layer)", ref.approach, res.approach + 1e-9, tol),
+            _row(case, "contact radius vs Sneddon", ref.contact_radius, math.sqrt(res.nominal_area / math.pi), tol)]
+
+
+def _layer_rows(quick: bool) -> list[ValidationRow]:
+    case = "two_scale_layer"
+    pair = ContactPair(Material(100e9, 0.3), Material.rigid())
+    E = pair.effective_modulus
+    n, lam, A, P0, g0, k = (32 if quick else 64), 10e-6, 2e-9, 2e8, 20e-9, 1e17
+    grid = Grid(n, n, lam, lam, periodic=True)
+    x = (np.arange(n) + 0.5) * grid.dx
+    X = np.broadcast_to(x[:, None], grid.shape)
+    q = 2 * math.pi / lam
+    h = A * (1 - np.cos(q * X))
+    ps = np.geomspace(1e6, 1e9, 256)
+    law = NormalInterfaceLaw(ps, g0 - ps / k, g0, np.full(256, 0.1), ps, np.zeros(256), np.zeros(256))
+    res = solve_interface_normal(periodic_operator(grid, pair), h, law, P0 * lam * lam, tol=1e-10)
+    P1 = A / (2 / (E * q) + 1 / k)
+    P1_num = float(2 * np.mean(res.pressure * np.cos(q * X)))
+    return [_row(case, "pressure harmonic P1 = A/(2/(E* q) + 1/k) (Pa)", P1, P1_num, 2e-3),
+            _row(case, "approach A - g0 + P0/k (m)", A - g0 + P0 / k, res.approach, 1e-3, scale=A)]
+
+
+def _whole_burl_rows(quick: bool) -> list[ValidationRow]:
+    case = "two_scale_whole_burl"
+    rows = []
+    if quick or not WHOLE_BURLS:
+        from ..solvers.normal import solve_normal  # the quick reference, solved here
+
+        b = BURLS["small"]
+        grid = Grid(QUICK_N, QUICK_N, b["size"], b["size"])
+        H = burl(grid, b["radius"], b["edge_radius"]) - gaussian_surface(grid, RMS, CORRELATION, seed=100)
+        offset = -float(H.min())
+        whole = solve_normal(free_boundary_operator(grid, PAIR), H + offset, force=b["force"], tol=1e-8)
+        ts = two_scale_burl("small", window_n=int(round(1e-6 / grid.dx)))
+        # the approach is judged against the rms roughness (its zero, the mean planes' touch, is arbitrary)
+        rows.append(_row(case, "small burl, 20 nm cells: approach of the mean planes (m; error / rms)",
+                         whole.approach - offset, ts["approach"], 0.03, scale=RMS))
+        # at 20 nm cells (50-cell windows) the windows' contact fraction is 6 % low (measured; 3 % at 10 nm)
+        rows.append(_row(case, "small burl, 20 nm cells: real contact area (m^2)", whole.contact_area,
+                         ts["contact_area"], 0.10))
+        return rows
+    for name, ref in WHOLE_BURLS.items():
+        ts = two_scale_burl(name)
+        a_ref = float(np.mean(ref["approach"]))
+        a_tol = max(0.03, float(np.ptp(ref["approach"])) / 2 / RMS)
+        rows.append(_row(case, f"{name} burl: approach of the mean planes (m; error / rms)", a_ref, ts["approach"],
+                         a_tol, scale=RMS))
+        area = float(np.mean(ref["contact_area"]))
+        spread = float(np.ptp(ref["contact_area"])) / 2 / area
+        rows.append(_row(case, f"{name} burl: real contact area (m^2)", area, ts["contact_area"], max(0.05, spread)))
+    return rows
+
+
+CASES = {
+    "two_scale_smooth": _smooth_rows,
+    "two_scale_layer": _layer_rows,
+    "two_scale_whole_burl": _whole_burl_rows,
+}

@@ -1,0 +1,113 @@
+"""Two-scale burls against whole-burl solves: the normal contact of a rough burl.
+
+The validation burls fit one grid at asperity resolution (10 nm cells: 1024^2 for a 3 um top,
+2048^2 for a 6 um top; SiC burl on a Si wafer, Gaussian roughness of 1.5 nm rms and 50 nm
+correlation length on the wafer, about 53 MPa over the flat top).  Each is solved
+
+* whole: the burl with its roughness on the whole grid (NormCG, free boundary), for several
+  roughness realisations (their scatter is the reference's own uncertainty);
+* two-scale: periodic micro windows of the same roughness statistics at the SAME cells (so that
+  both sides resolve the same asperities) give the interface law; the burl's shape is solved at
+  macro cells with it (:mod:`tribobem.two_scale`).
+
+Compared: the approach of the mean planes (the whole grid's approach less the offset that made
+its gap start at 0; the two-scale approach is measured from the mean planes by construction)
+and the real contact area.  The approach is judged against the rms roughness, not against
+itself: it is a difference of the burl's elastic displacement and the interface's mean gap
+(a few nm each), and its zero is the mean planes' touching position, so its relative error has
+no meaning.
+
+Usage::
+
+    python -m studies.two_scale --whole --out results/two_scale        # the whole-burl references (minutes)
+    python -m studies.two_scale --convergence --out results/two_scale  # window, cells, realisations, macro
+    python -m studies.two_scale --quick                                 # 512^2, one realisation (seconds)
+
+The whole-burl numbers are committed in :data:`tribobem.validation.two_scale.WHOLE_BURLS`
+(``--whole`` prints them in that form); ``tribobem validate --physics two_scale`` computes only
+the two-scale side against them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+import warnings
+from pathlib import Path
+
+from tribobem.elasticity import free_boundary_operator
+from tribobem.errors import ConvergenceWarning
+from tribobem.geometry.rough import gaussian_surface
+from tribobem.geometry.shapes import burl
+from tribobem.grid import Grid
+from tribobem.solvers.normal import solve_normal
+from tribobem.validation.two_scale import BURLS, PAIR, RMS, CORRELATION, two_scale_burl
+
+#: Seeds of the whole-burl roughness realisations (the windows use 0, 1, 2, ...).
+WHOLE_SEEDS = (100, 101, 102, 103)
+
+
+def whole_burl(name: str, seed: int, n: int | None = None) -> dict:
+    """The whole-grid solve of validation burl ``name`` with roughness realisation ``seed``."""
+    b = BURLS[name]
+    n = b["n"] if n is None else n
+    grid = Grid(n, n, b["size"], b["size"])
+    topo = gaussian_surface(grid, RMS, CORRELATION, seed=seed)
+    H = burl(grid, b["radius"], b["edge_radius"]) - topo
+    offset = -float(H.min())
+    t = time.process_time()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        res = solve_normal(free_boundary_operator(grid, PAIR), H + offset, force=b["force"], tol=1e-8)
+    return {"burl": name, "n": n, "seed": seed, "approach": res.approach - offset, "contact_area": res.contact_area,
+            "max_pressure": res.max_pressure, "converged": bool(res.converged), "cpu_s": time.process_time() - t}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--whole", action="store_true", help="compute the whole-burl references")
+    ap.add_argument("--convergence", action="store_true", help="the two-scale convergence study")
+    ap.add_argument("--quick", action="store_true", help="512^2 and one realisation")
+    ap.add_argument("--out", default="results/two_scale", help="folder for the JSON records")
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    if args.quick:
+        w = whole_burl("small", WHOLE_SEEDS[0], n=512)
+        t = two_scale_burl("small", window_n=50)
+        print(json.dumps({"whole": w, "two_scale": t}, indent=1))
+        return 0
+    if args.whole:
+        rows = []
+        for name in BURLS:
+            for seed in WHOLE_SEEDS:
+                r = whole_burl(name, seed)
+                rows.append(r)
+                print(json.dumps(r), flush=True)
+        (out / "whole.json").write_text(json.dumps(rows, indent=1))
+        print("\nWHOLE_BURLS = {")
+        for name in BURLS:
+            mine = [r for r in rows if r["burl"] == name]
+            approach = [round(r["approach"], 15) for r in mine]
+            area = [float(format(r["contact_area"], ".6e")) for r in mine]
+            print(f'    "{name}": {{"approach": {approach}, "contact_area": {area}}},')
+        print("}")
+    if args.convergence:
+        rows = []
+        for name in BURLS:
+            for label, kw in [("base", {}), ("window 0.5 um", {"window": 0.5e-6}), ("window 2 um", {"window": 2e-6}),
+                              ("1 realisation", {"realisations": 1}), ("8 realisations", {"realisations": 8}),
+                              ("macro 64^2", {"macro_n": 64}), ("macro 256^2", {"macro_n": 256}),
+                              ("window cells x2 (5 nm)", {"cells_factor": 2}),
+                              ("16 pressures", {"pressures": 16}), ("64 pressures", {"pressures": 64})]:
+                r = two_scale_burl(name, **kw)
+                r.update({"burl": name, "variant": label})
+                rows.append(r)
+                print(json.dumps(r), flush=True)
+        (out / "convergence.json").write_text(json.dumps(rows, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
