@@ -22,6 +22,7 @@ Usage::
     python -m studies.two_scale --whole --out results/two_scale        # the whole-burl references (minutes)
     python -m studies.two_scale --convergence --out results/two_scale  # window, cells, realisations, macro
     python -m studies.two_scale --quick                                 # 512^2, one realisation (seconds)
+    python -m studies.two_scale --real                                  # the 300 um burl, window cells 10-2.5 nm
 
 The whole-burl numbers are committed in :data:`tribobem.validation.two_scale.WHOLE_BURLS`
 (``--whole`` prints them in that form); ``tribobem validate --physics two_scale`` computes only
@@ -47,6 +48,41 @@ from tribobem.validation.two_scale import BURLS, PAIR, RMS, CORRELATION, two_sca
 #: Seeds of the whole-burl roughness realisations (the windows use 0, 1, 2, ...).
 WHOLE_SEEDS = (100, 101, 102, 103)
 
+#: The real-size burl's scenario (300 um top, 0.3 N) and the window cells of its study.
+REAL_SCENARIO = Path(__file__).resolve().parents[1] / "examples" / "studies" / "two_scale_real_burl.toml"
+REAL_WINDOW_CELLS = (100, 200, 400, 800)
+
+_REAL_CHILD = """
+import json, resource, sys, time, tomllib, warnings
+warnings.simplefilter("ignore")
+from tribobem.scenario import parse_scenario, run_scenario
+d = tomllib.load(open(sys.argv[1], "rb"))
+d["two_scale"]["window_n"] = int(sys.argv[2])
+d["two_scale"]["cache"] = False
+t = time.process_time()
+r = run_scenario(parse_scenario(d), outdir=None, progress=False, warn=False)
+s = r.summary
+st, ts = s["steps"][0], s["two_scale"]
+print(json.dumps({"window_n": int(sys.argv[2]), "cpu_s": time.process_time() - t,
+                  "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6,
+                  "converged": s["converged"], "approach": st["approach"], "contact_area": st["contact_area"],
+                  "nominal_contact_area": st["nominal_contact_area"], "max_pressure": st["max_pressure"],
+                  "max_nominal_pressure": st["max_nominal_pressure"], "patch_cells": ts["window_patch_cells"],
+                  "window_over_pressure_length": ts["window_over_pressure_length"],
+                  "rms_slope": s["problem"]["roughness"]["body1"]["rms_slope"], "warnings": s["warnings"]}))
+"""
+
+
+def real_burl(window_n: int) -> dict:
+    """The real-size burl with windows of ``window_n`` cells, in a fresh process (its CPU time and
+    peak memory are its own)."""
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", _REAL_CHILD, str(REAL_SCENARIO), str(window_n)], check=True,
+                         capture_output=True, text=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
 
 def whole_burl(name: str, seed: int, n: int | None = None) -> dict:
     """The whole-grid solve of validation burl ``name`` with roughness realisation ``seed``."""
@@ -69,6 +105,7 @@ def main(argv=None) -> int:
     ap.add_argument("--whole", action="store_true", help="compute the whole-burl references")
     ap.add_argument("--convergence", action="store_true", help="the two-scale convergence study")
     ap.add_argument("--quick", action="store_true", help="512^2 and one realisation")
+    ap.add_argument("--real", action="store_true", help="the 300 um burl at three window resolutions")
     ap.add_argument("--out", default="results/two_scale", help="folder for the JSON records")
     args = ap.parse_args(argv)
     out = Path(args.out)
@@ -78,6 +115,13 @@ def main(argv=None) -> int:
         t = two_scale_burl("small", window_n=50)
         print(json.dumps({"whole": w, "two_scale": t}, indent=1))
         return 0
+    if args.real:
+        rows = []
+        for n in REAL_WINDOW_CELLS:
+            r = real_burl(n)
+            rows.append(r)
+            print(json.dumps(r), flush=True)
+        (out / "real.json").write_text(json.dumps(rows, indent=1))
     if args.whole:
         rows = []
         for name in BURLS:

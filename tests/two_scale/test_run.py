@@ -69,8 +69,10 @@ def test_two_scale_normal_run_matches_the_whole_burl():
     assert ts["law"]["realisations"] == 4 and ts["law"]["converged"]
     assert ts["law"]["pressures"][0] < 1.5e-3 / (math.pi * 9e-12) < ts["law"]["pressures"][-1]
     assert s["problem"]["two_scale"]["window_n"] == 50
-    # the only warning: 50 nm correlation length over 20 nm cells (as coarse as the whole grid here)
-    assert [w.split(":")[0] for w in s["warnings"]] == ["two_scale.window_n"]
+    # the only warnings: 50 nm correlation length over 20 nm cells, and asperity contacts under 3 cells
+    # across (as coarse as the whole grid here)
+    assert [w.split(":")[0] for w in s["warnings"]] == ["two_scale.window_n"] * 2
+    assert s["two_scale"]["window_patch_cells"] < 3
 
 
 TOML = """
@@ -110,7 +112,9 @@ def test_two_scale_runs_from_the_cli_and_writes_the_maps(tmp_path, monkeypatch):
     with xr.open_dataset(out / "fields.nc") as ds:
         p = ds["pressure"].values
     assert p.shape[-2:] == (64, 64) and np.nanmax(p) > 0
-    assert (out / "report.html").exists()
+    assert (out / "report.html").exists() and (out / "interface_law.png").exists()
+    report = (out / "report.html").read_text()
+    assert "two-scale" in report and "scale separation" in report
     # the rerun reads both windows' tables from the cache
     assert len(list((tmp_path / "cache" / "two_scale").glob("*.json"))) == 2
     r = CliRunner().invoke(app, ["run", str(path), "--out", str(tmp_path / "again"), "--json"])
@@ -145,3 +149,17 @@ def test_the_two_scale_validation_cases_pass(quick):
     assert {r.case for r in rows} == set(PHYSICS_CASES["two_scale"])
     failed = [r for r in rows if not r.passed]
     assert not failed, failed
+
+
+def test_a_texture_that_does_not_tile_the_window_and_a_coarse_macro_grid():
+    tex = {"kind": "dimples", "pitch": "0.3 um", "size": "0.15 um", "depth": "2 nm"}
+    with pytest.raises(InputError, match="two_scale.window"):
+        run_scenario(parse_scenario(scenario(**{"body1.texture": tex})), outdir=None, progress=False, warn=False)
+    # a texture that tiles the window goes to the windows (and is resolved by their cells)
+    tex["pitch"], tex["size"] = "0.25 um", "0.125 um"
+    s = run_scenario(parse_scenario(scenario(**{"body1.texture": tex})), outdir=None, progress=False,
+                     warn=False).summary
+    assert s["problem"]["two_scale"]["window_textures"] == ["body1.texture"]
+    # 16 macro cells of 640 nm against an edge zone of 0.49 um
+    s = run_scenario(parse_scenario(scenario(**{"grid.n": 16})), outdir=None, progress=False, warn=False).summary
+    assert any(w.startswith("grid.n: the macro cells") for w in s["warnings"])

@@ -294,6 +294,13 @@ def check_body_geometry(body, dx: float, dy: float, lengths, name: str, window=N
     cell = max(float(dx), float(dy))
     tex = getattr(body, "texture", None)
     if tex is not None:
+        if window is not None and float(tex.pitch) < float(window[0]) and not texture_fits_window(
+                float(tex.pitch), float(window[0])):
+            k = float(window[0]) / float(tex.pitch)
+            raise InputError("two_scale.window", f"{float(window[0]):.4g} m holds {k:.3f} periods of {name}.texture "
+                             f"({float(tex.pitch):.4g} m): a texture shorter than the window belongs to the periodic "
+                             "windows, which must hold a whole number of its periods (e.g. "
+                             f"{round(k) * float(tex.pitch):.4g} m)")
         if window is not None and texture_fits_window(float(tex.pitch), float(window[0])):
             check_resolution(tex.kind, float(tex.pitch), float(tex.size), float(window[0]) / int(window[1]),
                              f"{name}.texture")

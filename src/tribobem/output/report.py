@@ -760,7 +760,22 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
         if "rms_height" in st:
             rows.append((f"{body} roughness", f"rms {format_quantity(st['rms_height'], 'length')}, rms slope "
                                               f"{st.get('rms_slope', float('nan')):.3g}"))
-    solver = [f"normal solver {prob['normal_method']}"] if prob.get("normal_method") else []
+    ts = prob.get("two_scale")
+    if ts:  # [two_scale]: the windows hold the roughness, the grid above is the macro grid
+        run_ts = s.get("two_scale") or {}
+        law = run_ts.get("law") or {}
+        rows.append(("two-scale", f"{ts['realisations']} periodic window(s) of {format_quantity(ts['window'], 'length')} "
+                                  f"({ts['window_n']}^2 cells of {format_quantity(ts['window_dx'], 'length')}), "
+                                  f"{len(law.get('pressures', []))} tabulated pressures; macro cells "
+                                  f"{format_quantity(ts['macro_dx'], 'length')}; contact area = real area "
+                                  "(the windows' contact fraction), max pressure = the windows' largest"))
+        if run_ts.get("window_over_pressure_length") is not None:
+            rows.append(("scale separation", f"window / (p / |grad p|) = {run_ts['window_over_pressure_length']:.2f} "
+                                             f"(median over the contact; "
+                                             f"{format_quantity(run_ts['pressure_length_edge'], 'length')} at its edge)"))
+    solver = [f"normal solver {prob['normal_method']}"] if prob.get("normal_method") and not ts else []
+    if ts:
+        solver.append("micro windows: Polonsky-Keer force path; macro: projected Newton with the interface law")
     if prob.get("backend"):
         solver.append(f"backend {prob['backend']}" + (f", FFT engine {prob['fft']}" if prob.get("fft") else ""))
     if solver:  # what [solver] method = "auto" and backend stood for

@@ -132,7 +132,7 @@ def check(sc) -> None:
 KIND = RunKind(
     name="normal", run=run, check=check,
     summary="normal contact at one load or along a list of loads (with Dugdale adhesion if given)",
-    figures=("load_curve", "maps"),
+    figures=("load_curve", "two_scale", "maps"),
     columns=NORMAL_COLUMNS,
     results={"pull_off_force": "force", "pull_off_approach": "length", "hysteresis_energy": "energy"},
     uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",), "two_scale": ALL},

@@ -37,6 +37,9 @@ from .settings import SolverSettings
 
 __all__ = ["run_normal", "table_pressures"]
 
+#: A window's largest contact patch must span at least this many cells (equivalent diameter) at
+#: the macro mean pressure, or the run warns (as a whole-grid run's contact_cells check does).
+MIN_PATCH_CELLS = 3.0
 #: The automatic table: from this fraction of the smooth contact's mean pressure ...
 LOW_FRACTION = 1e-3
 #: ... to this multiple of its largest pressure.
@@ -140,13 +143,23 @@ def run_normal(pb, bar, settings: SolverSettings) -> RunOutput:
     if beyond:
         messages.append(f"two_scale.max_pressure: a macro cell's nominal pressure exceeds the table's largest "
                         f"({law.pressures[-1]:.4g} Pa); the law was extrapolated there: give a larger max_pressure")
-    spread = float(np.max(law.gap_spread / np.maximum(law.touch_gap - law.gaps, 1e-300)))
+    # the windows' asperity contacts at the largest load's mean nominal pressure: resolved when the
+    # largest patch spans >= 3 cells (the result check contact_cells of a whole-grid run)
+    last = rows[-1]
+    mean_p = float(last["normal_force"]) / max(float(last["nominal_contact_area"]), pb.grid.dx * pb.grid.dy)
+    patch = law.patch_cells_at(mean_p)
+    if patch is not None and patch < MIN_PATCH_CELLS:
+        messages.append(f"two_scale.window_n: at the mean nominal pressure ({mean_p:.3g} Pa) the windows' largest "
+                        f"contact patch is {patch:.1f} cell(s) across (< {MIN_PATCH_CELLS:g}): the asperity contacts "
+                        "are not resolved, so the real contact area and the peak pressure are set by the window's "
+                        "cells; refine two_scale.window_n")
     # the scale separation at the largest load: the window against the length over which the
     # nominal pressure changes (median over the contact and its edge's 5th percentile)
     lengths = pressure_length(results[-1].pressure, pb.grid.dx, pb.grid.dy)
     separation = {"pressure_length_median": lengths["median"], "pressure_length_edge": lengths["p05"],
                   "window_over_pressure_length": float(ts.window / lengths["median"])}
-    run = {"two_scale": {**range_info, **separation, "law": law.as_dict(), "gap_spread_relative": spread}}
+    run = {"two_scale": {**range_info, **separation, "mean_nominal_pressure": mean_p, "window_patch_cells": patch,
+                         "law": law.as_dict(), "gap_spread_max": float(np.max(law.gap_spread))}}
     labels = [f"loading {k}" for k in range(len(rows))]
     return RunOutput(rows=rows, results=results, labels=labels, indices=list(range(len(rows))), run=run,
                      warnings=messages)

@@ -576,16 +576,36 @@ def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warn
             warns.append(f"two_scale.window_n: the window's cells ({wgrid.dx:.3g} m) resolve {name}'s "
                          f"correlation length ({spec.correlation_length:.3g} m) with "
                          f"{spec.correlation_length / wgrid.dx:.1f} cells (< 3): the asperity tips are not resolved")
+    for name in ("body1", "body2"):
+        tex = getattr(sc, name).texture
+        if tex is not None and tex.pitch < ts.window and not texture_fits_window(tex.pitch, ts.window):
+            raise InputError("two_scale.window", f"{ts.window:.4g} m holds {ts.window / tex.pitch:.3f} periods of "
+                             f"{name}.texture ({tex.pitch:.4g} m): a texture shorter than the window belongs to the "
+                             "periodic windows, which must hold a whole number of its periods "
+                             f"(e.g. {round(ts.window / tex.pitch) * tex.pitch:.4g} m)")
+        shape = getattr(sc, name).shape
+        if getattr(shape, "kind", None) == "burl":
+            # the edge zone: where the burl's edge falls by the interface's height scale (4 rms
+            # of the combined roughness), over which the nominal pressure drops to zero
+            rms = math.sqrt(sum(float(getattr(sp, "rms", None) or 0.0) ** 2 for sp in specs.values()))
+            edge = math.sqrt(2.0 * float(shape.edge_radius) * 4.0 * rms) if rms > 0 else None
+            if edge is not None and grid.dx > 0.5 * edge:
+                warns.append(f"grid.n: the macro cells ({grid.dx:.3g} m) are coarser than half the burl's edge zone "
+                             f"({edge:.3g} m: where its edge falls by 4 rms of the roughness); the nominal pressure "
+                             "at the edge is not resolved: refine grid.n")
     if all(spec.kind == "none" for spec in specs.values()):
         raise InputError("two_scale", "a two-scale run needs a rough body (body1 or body2 roughness): the micro "
                          "windows hold the roughness")
     gaps = []
+    first: dict = {}  # each body's roughness in the first window, for the summary's statistics
     for k in range(int(ts.realisations)):
         topo = np.zeros(wgrid.shape)
         for name, spec in specs.items():
             if spec.kind != "none":
                 seeded = spec.model_copy(update={"seed": int(spec.seed or 0) + k})
-                topo = topo + _roughness(seeded, wgrid, f"{name}.roughness", None, {}, [])
+                rough = _roughness(seeded, wgrid, f"{name}.roughness", None, {}, [])
+                topo = topo + rough
+                first.setdefault(name, (rough, wgrid))
             tex = getattr(sc, name).texture
             if tex is not None and texture_fits_window(tex.pitch, ts.window):
                 topo = topo + geo.texture(wgrid, tex.kind, tex.pitch, tex.size, tex.depth, tex.angle,
@@ -597,7 +617,9 @@ def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warn
              "realisations": int(ts.realisations), "macro_dx": float(grid.dx),
              "seeds": [int(getattr(specs[n], "seed", None) or 0) for n in ("body1", "body2")], "window_textures": short}
     info["two_scale"] = winfo
-    return MicroWindows(wgrid, pair, gaps, interaction, dict(winfo))
+    windows = MicroWindows(wgrid, pair, gaps, interaction, dict(winfo))
+    windows.info["roughness_of"] = {n: r for n, (r, _) in first.items()}
+    return windows
 
 
 def _sphere_radius(sc: Scenario) -> float | None:
@@ -730,11 +752,13 @@ def _build_problem(scenario: Scenario, base_dir) -> Problem:
     if radius is not None:
         info["radius"] = radius
     info.update(law_summary_info(interaction, radius, E_star))  # the law's own scalars (Dugdale: sigma0, h0, ...)
+    if windows is not None:  # the roughness lives in the windows: its statistics are the first window's
+        stats_of = windows.info.pop("roughness_of")
     for name, h in stats_of.items():
         kind = getattr(sc, name).roughness.kind
         if kind != "none":
             try:
-                s = geostats.summary(h, grid)
+                s = geostats.summary(h, windows.grid if windows is not None else grid)
             except Exception as exc:  # statistics are informative only
                 s = {"error": str(exc)}
             info.setdefault("roughness", {})[name] = {k: float(v) for k, v in s.items() if isinstance(v, (int, float))}

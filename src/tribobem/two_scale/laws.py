@@ -59,6 +59,10 @@ class NormalInterfaceLaw:
         Whether every micro solve converged.
     info : dict
         What the table was computed from (window size, cells, tolerance, ...), for the summary.
+    patch_cells : ndarray, shape (m,), optional
+        Equivalent diameter (cells) of the largest contact patch of the windows at each
+        pressure (the largest over the realisations): whether the windows resolve their
+        asperity contacts (>= 3 cells).
     """
 
     pressures: np.ndarray
@@ -71,6 +75,7 @@ class NormalInterfaceLaw:
     realisations: int = 1
     converged: bool = True
     info: dict = field(default_factory=dict)
+    patch_cells: np.ndarray | None = None
 
     def __post_init__(self):
         self.pressures = np.asarray(self.pressures, dtype=float)
@@ -167,6 +172,14 @@ class NormalInterfaceLaw:
         out[inside] = np.exp(self._pmax(np.log(p[inside])))
         return out
 
+    def patch_cells_at(self, p: float) -> float | None:
+        """The windows' largest contact patch (equivalent diameter, cells) at nominal pressure
+        ``p`` (Pa): the tabulated value at the nearest pressure at or below ``p``; None without."""
+        if self.patch_cells is None:
+            return None
+        k = int(np.clip(np.searchsorted(self.pressures, p, side="right") - 1, 0, self.pressures.size - 1))
+        return float(np.asarray(self.patch_cells)[k])
+
     def beyond_table(self, p) -> bool:
         """Whether any pressure in ``p`` (Pa) lies above the table's largest (extrapolated)."""
         return bool(np.any(np.asarray(p) > self.pressures[-1] * (1 + 1e-9)))
@@ -180,13 +193,15 @@ class NormalInterfaceLaw:
             "gap_spread": np.asarray(self.gap_spread, float).tolist(),
             "fraction_spread": np.asarray(self.fraction_spread, float).tolist(),
             "realisations": int(self.realisations), "converged": bool(self.converged), "info": dict(self.info),
+            "patch_cells": None if self.patch_cells is None else np.asarray(self.patch_cells, float).tolist(),
         }
 
     @classmethod
     def from_dict(cls, d: dict) -> "NormalInterfaceLaw":
         """The inverse of :meth:`as_dict`."""
         return cls(**{k: d[k] for k in ("pressures", "gaps", "touch_gap", "contact_fractions", "max_pressures",
-                                        "gap_spread", "fraction_spread", "realisations", "converged", "info")})
+                                        "gap_spread", "fraction_spread", "realisations", "converged", "info")},
+                   patch_cells=d.get("patch_cells"))
 
     @classmethod
     def from_realisations(cls, pressures, tables: list[dict], info: dict | None = None) -> "NormalInterfaceLaw":
@@ -209,4 +224,6 @@ class NormalInterfaceLaw:
                    touch_gap=float(np.mean([t["touch_gap"] for t in tables])),
                    contact_fractions=frac.mean(axis=0), max_pressures=pmax.max(axis=0),
                    gap_spread=gaps.std(axis=0), fraction_spread=frac.std(axis=0), realisations=len(tables),
-                   converged=bool(all(np.all(t["converged"]) for t in tables)), info=dict(info or {}))
+                   converged=bool(all(np.all(t["converged"]) for t in tables)), info=dict(info or {}),
+                   patch_cells=(np.array([t["patch_cells"] for t in tables], dtype=float).max(axis=0)
+                                if all("patch_cells" in t for t in tables) else None))

@@ -37,7 +37,10 @@ from ..materials import ContactPair
 from ..solvers.normal_paths import force_curve
 from .laws import NormalInterfaceLaw
 
-__all__ = ["MicroWindows", "window_table", "interface_law", "default_cache_dir"]
+__all__ = ["MicroWindows", "window_table", "interface_law", "default_cache_dir", "TABLE_VERSION"]
+
+#: The format of a cached table (part of its key): bumped when a table gains or changes a column.
+TABLE_VERSION = 1
 
 
 @dataclass
@@ -80,7 +83,7 @@ def _table_key(grid: Grid, pair: ContactPair, gap: np.ndarray, interaction, pres
     h.update(np.ascontiguousarray(gap, dtype=np.float64).tobytes())
     meta = {"grid": [grid.nx, grid.ny, grid.lx, grid.ly], "pair": repr(pair), "interaction": repr(interaction),
             "pressures": [float(p).hex() for p in pressures], "tol": tol, "max_iterations": max_iterations,
-            "solver_version": SOLVER_VERSION}
+            "solver_version": SOLVER_VERSION, "table_version": TABLE_VERSION}
     h.update(json.dumps(meta, sort_keys=True).encode())
     return h.hexdigest()
 
@@ -108,7 +111,8 @@ def window_table(grid: Grid, pair: ContactPair, gap: np.ndarray, pressures, *, i
     -------
     dict
         ``gaps`` (m), ``touch_gap`` (m: the mean gap at first touch), ``contact_fractions``,
-        ``max_pressures`` (Pa), ``converged`` and ``iterations`` (per pressure).
+        ``max_pressures`` (Pa), ``patch_cells`` (the largest contact patch's equivalent
+        diameter in cells), ``converged`` and ``iterations`` (per pressure).
     """
     op = periodic_operator(grid, pair)
     area = grid.lx * grid.ly
@@ -116,11 +120,12 @@ def window_table(grid: Grid, pair: ContactPair, gap: np.ndarray, pressures, *, i
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)  # carried in ``converged``
         curve = force_curve(op, gap, forces, interaction=interaction, unload=False, tol=tol,
-                            max_iterations=max_iterations)
+                            max_iterations=max_iterations, keep_fields=True)
     steps = list(curve.steps)
     if len(steps) != len(forces):
         raise InputError("two_scale.pressures", f"the window solved {len(steps)} of {len(forces)} pressures")
     return {
+        "patch_cells": [_largest_patch_cells(np.asarray(r.contact)) for r in curve.results],
         "gaps": [float(s["mean_gap"]) for s in steps],
         "touch_gap": float(np.mean(gap)),
         "contact_fractions": [float(s["contact_area"]) / area for s in steps],
@@ -128,6 +133,18 @@ def window_table(grid: Grid, pair: ContactPair, gap: np.ndarray, pressures, *, i
         "converged": [bool(s["converged"]) for s in steps],
         "iterations": [int(s["iterations"]) for s in steps],
     }
+
+
+def _largest_patch_cells(contact: np.ndarray) -> float:
+    """Equivalent diameter (cells) of the largest contact patch, 2 sqrt(n / pi) of its n cells
+    (patches are 4-connected; a patch across the periodic edge counts as two)."""
+    from scipy import ndimage
+
+    labels, count = ndimage.label(contact)
+    if count == 0:
+        return 0.0
+    largest = int(np.bincount(labels.ravel())[1:].max())
+    return float(2.0 * np.sqrt(largest / np.pi))
 
 
 def _cached_table(args: tuple, cache_dir: str | None) -> dict:

@@ -21,13 +21,14 @@ from .load_curve import force_curve_figure
 from .maps import contact_figure, pressure_figure, profile_figure, topography_figure
 from .stickslip import _rows_with, _step_name, _step_number, stick_normal_figure, stick_ratio_figure
 from .stickslip import stickslip_figure, stickslip_steps
+from .two_scale import interface_law_figure
 
 #: File stems of the figures, in report order.  ``stickslip`` stands for the stick/slip maps,
 #: one per shown step, named ``stickslip_step<k>`` (k: the step's index in summary.json), or,
 #: for a hysteresis run, one multi-panel ``stickslip_loop`` at Paper E's points (A, D, D' ...),
 #: for a humid partial-slip run one multi-panel ``stickslip_rh`` (a map per RH);
 #: ``dissipation`` for ``dissipation_cycle<k>`` (hysteresis: maps of the last cycle).
-FIGURE_NAMES = ("hysteresis_loop", "humid_friction_rh", "humid_friction_curve", "capillary_forces", "pulloff_rh",
+FIGURE_NAMES = ("interface_law", "hysteresis_loop", "humid_friction_rh", "humid_friction_curve", "capillary_forces", "pulloff_rh",
                 "force_curve", "stick_ratio", "stick_normal",
                 "stickslip", "lateral_stiffness", "dissipation", "meniscus", "films", "pressure", "contact", "profile",
                 "pressure_pulloff", "contact_pulloff", "topography")
@@ -250,6 +251,28 @@ def map_figures(ds, summary: dict, outdir) -> dict:
     return out
 
 
+def two_scale_figures(ds, summary: dict, outdir) -> dict:
+    """Figure set ``two_scale``: the interface law of the micro windows (a run with
+    ``[two_scale]``; nothing otherwise).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or None
+        The fields of the run (unused: the law is in the summary).
+    summary : dict
+        The run summary (summary.json).
+    outdir : path-like
+        Folder of the PNG files.
+
+    Returns
+    -------
+    dict
+        Figure name -> Path of the PNG written; empty without a two-scale table.
+    """
+    f = interface_law_figure(summary, Path(outdir) / "interface_law.png")
+    return {"interface_law": f} if f is not None else {}
+
+
 #: The figure sets a run kind names (:attr:`tribobem.runs.kind.RunKind.figures`): name -> a
 #: function ``(ds, summary, outdir) -> {figure name: Path}`` that draws what applies.
 FIGURE_SETS = {
@@ -259,6 +282,7 @@ FIGURE_SETS = {
     "capillary": capillary_run_figures,
     "humid_friction": humid_friction_run_figures,
     "maps": map_figures,
+    "two_scale": two_scale_figures,
 }
 
 
