@@ -22,7 +22,8 @@ Usage::
     python -m studies.two_scale --whole --out results/two_scale        # the whole-burl references (minutes)
     python -m studies.two_scale --convergence --out results/two_scale  # window, cells, realisations, macro
     python -m studies.two_scale --quick                                 # 512^2, one realisation (seconds)
-    python -m studies.two_scale --real                                  # the 300 um burl, window cells 10-2.5 nm
+    python -m studies.two_scale --real                                  # the 300 um burl, window cells 10-1.25 nm
+    python -m studies.two_scale --whole-slip --out results/two_scale   # whole-burl ramps (2 min per 1024^2)
 
 The whole-burl numbers are committed in :data:`tribobem.validation.two_scale.WHOLE_BURLS`
 (``--whole`` prints them in that form); ``tribobem validate --physics two_scale`` computes only
@@ -100,12 +101,39 @@ def whole_burl(name: str, seed: int, n: int | None = None) -> dict:
             "max_pressure": res.max_pressure, "converged": bool(res.converged), "cpu_s": time.process_time() - t}
 
 
+def whole_burl_slip(n: int, seed: int) -> dict:
+    """The whole small burl's partial-slip ramp (``tangential_forces = "auto"``, mu = 0.2, the coupled
+    dissimilar pair) on ``n``^2 cells, roughness seed ``seed``: static friction and the tangential
+    displacement at 0.5 and 0.9 of it."""
+    from tribobem.scenario import parse_scenario, run_scenario
+    from tribobem.validation.two_scale import MU
+
+    b = BURLS["small"]
+    sc = {"kind": "partial_slip", "grid": {"n": n, "size": b["size"]},
+          "body1": {"E": PAIR.body1.E, "nu": PAIR.body1.nu,
+                    "roughness": {"kind": "gaussian", "rms": RMS, "correlation_length": CORRELATION, "seed": seed}},
+          "body2": {"E": PAIR.body2.E, "nu": PAIR.body2.nu,
+                    "shape": {"kind": "burl", "radius": b["radius"], "edge_radius": b["edge_radius"]}},
+          "load": {"force": b["force"]}, "friction": {"coefficient": MU, "tangential_forces": "auto"}}
+    t = time.process_time()
+    s = run_scenario(parse_scenario(sc), outdir=None, progress=False, warn=False).summary
+    fx = [r["tangential_force_x"] for r in s["steps"]]
+    dx = [r["displacement_x"] for r in s["steps"]]
+    fs = s["static_friction_force"]
+    import numpy as np
+
+    return {"n": n, "seed": seed, "static_friction_force": fs, "static_friction_ratio": s["static_friction_ratio"],
+            "d50": float(np.interp(0.5 * fs, fx, dx)), "d90": float(np.interp(0.9 * fs, fx, dx)),
+            "presliding_displacement": s["presliding_displacement"], "cpu_s": time.process_time() - t}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--whole", action="store_true", help="compute the whole-burl references")
     ap.add_argument("--convergence", action="store_true", help="the two-scale convergence study")
     ap.add_argument("--quick", action="store_true", help="512^2 and one realisation")
-    ap.add_argument("--real", action="store_true", help="the 300 um burl at three window resolutions")
+    ap.add_argument("--real", action="store_true", help="the 300 um burl at four window resolutions")
+    ap.add_argument("--whole-slip", action="store_true", help="whole-burl partial-slip ramps (512^2 and 1024^2)")
     ap.add_argument("--out", default="results/two_scale", help="folder for the JSON records")
     args = ap.parse_args(argv)
     out = Path(args.out)
@@ -115,6 +143,11 @@ def main(argv=None) -> int:
         t = two_scale_burl("small", window_n=50)
         print(json.dumps({"whole": w, "two_scale": t}, indent=1))
         return 0
+    if args.whole_slip:
+        rows = [whole_burl_slip(512, 100)] + [whole_burl_slip(1024, seed) for seed in WHOLE_SEEDS[:2]]
+        for r in rows:
+            print(json.dumps(r), flush=True)
+        (out / "whole_slip.json").write_text(json.dumps(rows, indent=1))
     if args.real:
         rows = []
         for n in REAL_WINDOW_CELLS:

@@ -126,7 +126,7 @@ def test_two_scale_runs_from_the_cli_and_writes_the_maps(tmp_path, monkeypatch):
     ({"body1.roughness": {"kind": "none"}}, "two_scale"),
     ({"load.force": None, "load.approach": "2 nm"}, "load.approach"),
     ({"adhesion": {"model": "dugdale", "work_of_adhesion": "0.1 J/m^2", "z0": "0.3 nm"}}, "adhesion.model"),
-    ({"kind": "partial_slip", "friction": {"coefficient": 0.2}}, "two_scale"),
+    ({"kind": "hysteresis", "friction": {"coefficient": 0.2, "path": {"amplitude": 0.5}}}, "two_scale"),
 ])
 def test_bad_two_scale_scenarios_name_the_key(changes, key):
     with pytest.raises(InputError) as err:
@@ -141,7 +141,7 @@ def test_a_table_short_of_the_macro_pressures_is_a_warning():
     assert any("two_scale.max_pressure" in w for w in s["warnings"])
 
 
-@pytest.mark.parametrize("quick", [True, False])
+@pytest.mark.parametrize("quick", [True, pytest.param(False, marks=pytest.mark.slow)])  # the full tier: CI's gate
 def test_the_two_scale_validation_cases_pass(quick):
     from tribobem.validation import PHYSICS_CASES, run_validation
 
@@ -163,3 +163,48 @@ def test_a_texture_that_does_not_tile_the_window_and_a_coarse_macro_grid():
     # 16 macro cells of 640 nm against an edge zone of 0.49 um
     s = run_scenario(parse_scenario(scenario(**{"grid.n": 16})), outdir=None, progress=False, warn=False).summary
     assert any(w.startswith("grid.n: the macro cells") for w in s["warnings"])
+
+
+def slip_scenario(**changes):
+    d = scenario(**{"kind": "partial_slip", "friction": {"coefficient": 0.2, "tangential_forces": "auto"},
+                    "two_scale.window_n": 32, "two_scale.realisations": 2, "grid.n": 48})
+    for dotted, value in changes.items():
+        *path, last = dotted.split(".")
+        node = d
+        for p in path:
+            node = node.setdefault(p, {})
+        if value is None:
+            node.pop(last, None)
+        else:
+            node[last] = value
+    return d
+
+
+def test_two_scale_partial_slip_ramps_to_the_static_friction():
+    s = run_scenario(parse_scenario(slip_scenario()), outdir=None, progress=False, warn=False).summary
+    steps = s["steps"]
+    fx = [st["tangential_force_x"] for st in steps]
+    dx = [st["displacement_x"] for st in steps]
+    assert s["converged"] and len(steps) == 12
+    assert s["static_friction_force"] == pytest.approx(0.2 * 1.5e-3, rel=1e-9)  # mu F: every window slides at mu p
+    assert np.all(np.diff(fx) > 0) and np.all(np.diff(dx) > 0)
+    assert steps[0]["stick_ratio"] == 1.0 and steps[-1]["stick_ratio"] < 0.3
+    assert 0 < s["displacement_at_half_static_friction"] < s["displacement_at_0p9_static_friction"]
+    assert s["two_scale"]["slip_law"]["realisations"] == 2
+    # beyond the static friction: not solved, and said
+    s = run_scenario(parse_scenario(slip_scenario(**{"friction.tangential_forces": ["0.1 mN", "0.4 mN"]})),
+                     outdir=None, progress=False, warn=False).summary
+    assert len(s["steps"]) == 1 and s["gross_slip"]
+    assert any("slides as a whole" in w for w in s["warnings"])
+
+
+@pytest.mark.parametrize("changes, key", [
+    ({"friction.tangential_forces": None, "friction.tangential_displacements": ["1 nm"]},
+     "friction.tangential_displacements"),
+    ({"friction.direction": 30}, "friction.direction"),
+    ({"humidity": {"rh": 0.5}}, "humidity"),
+])
+def test_unsupported_two_scale_ramps_name_the_key(changes, key):
+    with pytest.raises(InputError) as err:
+        run_scenario(parse_scenario(slip_scenario(**changes)), outdir=None, progress=False, warn=False)
+    assert key in str(err.value)

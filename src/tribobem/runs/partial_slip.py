@@ -29,6 +29,7 @@ from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, f
                    require_elastic_body, require_friction, require_humidity)
 from .kind import TANGENTIAL_COLUMNS
 from .settings import SolverSettings
+from .two_scale import run_partial_slip as run_two_scale
 
 __all__ = ["run", "check", "KIND"]
 
@@ -75,6 +76,8 @@ def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
     """
     if settings is None:
         settings = SolverSettings.from_scenario(pb.scenario)
+    if pb.two_scale is not None:  # [two_scale]: micro windows, then the macro ramp
+        return run_two_scale(pb, bar, settings)
     if pb.humidity is not None:
         return run_per_rh(pb, bar, _run_one, "partial_slip", settings)
     return _run_one(pb, bar, pb.interaction, None, "", settings)[0]
@@ -230,6 +233,22 @@ def check(sc) -> None:
             if n_t != len(load.forces):
                 fail(f"friction.{key}", f"with load.forces the two lists are paired step by step and "
                      f"must have the same length; got {n_t} against {len(load.forces)} normal forces")
+    if sc.two_scale is not None:
+        # what the two-scale ramp supports: one normal force, a force ramp, dry, along x
+        if load.forces is not None:
+            fail("load.forces", "a two-scale partial_slip run is a tangential ramp at one normal force (load.force)")
+        if fr.tangential_displacements is not None:
+            fail("friction.tangential_displacements", "a two-scale ramp is force-controlled: give "
+                 "friction.tangential_forces (or \"auto\")")
+        if fr.direction != 0.0:
+            fail("friction.direction", "a two-scale ramp runs along x (direction 0)")
+        if "slip" in fr.model_fields_set and fr.slip != "total":
+            fail("friction.slip", "a two-scale ramp is monotonic from the undeformed state: slip = 'total'")
+        if sc.humidity is not None:
+            fail("humidity", "capillary interface laws are not available for two-scale runs yet: run the whole grid")
+        if sc.adhesion.model != "none":
+            fail("adhesion.model", "a two-scale run takes a non-adhesive interface; adhesive interface laws are not "
+                                   "available yet: run the whole grid")
 
 
 _APPROACH = ("approach-controlled normal loads are not supported for kind = 'partial_slip'; give "
@@ -243,10 +262,12 @@ KIND = RunKind(
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
              "presliding_displacement": "length", "max_tangential_force": "force",
              "zero_force_stick_ratio": "dimensionless", "gross_slip_force_estimate": "force",
+             "displacement_at_half_static_friction": "length", "displacement_at_0p9_static_friction": "length",
              **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
     uses={"load": ("force", "forces"),
           "friction": ("coefficient", "tangential_forces", "tangential_displacements", "direction", "slip"),
-          "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker"), "solver": ("method",)},
+          "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker"), "solver": ("method",),
+          "two_scale": ALL},
     hints={"friction.path": "a partial_slip ramp is friction.tangential_forces or "
                             "friction.tangential_displacements",
            "load.approach": _APPROACH, "load.approaches": _APPROACH},

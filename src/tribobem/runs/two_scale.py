@@ -27,15 +27,23 @@ import warnings
 import numpy as np
 
 from ..errors import ConvergenceWarning
-from ..results import NormalResult
+from ..errors import InputError
+from ..results import NormalResult, TangentialResult
 from ..solvers.normal import solve_normal
 from ..two_scale.macro import pressure_length, solve_interface_normal
 from ..two_scale.micro import interface_law
+from ..two_scale.tangential import interface_slip_law, solve_interface_tangential
 from .common import step_row
 from .kind import RunOutput
 from .settings import SolverSettings
 
-__all__ = ["run_normal", "table_pressures"]
+__all__ = ["run_normal", "run_partial_slip", "table_pressures", "AUTO_FRACTIONS"]
+
+#: ``tangential_forces = "auto"`` of a two-scale partial_slip run: these fractions of the static
+#: friction mu F (every window slides at its own mu p, so the burl at mu F).
+AUTO_FRACTIONS = (0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 0.98)
+#: Nominal pressures of the slip table (log-spaced over the normal table's upper range).
+SLIP_PRESSURES = 12
 
 #: A window's largest contact patch must span at least this many cells (equivalent diameter) at
 #: the macro mean pressure, or the run warns (as a whole-grid run's contact_cells check does).
@@ -163,3 +171,128 @@ def run_normal(pb, bar, settings: SolverSettings) -> RunOutput:
     labels = [f"loading {k}" for k in range(len(rows))]
     return RunOutput(rows=rows, results=results, labels=labels, indices=list(range(len(rows))), run=run,
                      warnings=messages)
+
+
+def _normal_state(pb, settings, force):
+    """The macro normal state of a two-scale tangential run, its law and run-level info."""
+    pressures, range_info = table_pressures(pb, settings, force)
+    ts = pb.scenario.two_scale
+    law = interface_law(pb.two_scale, pressures, tol=settings.tolerance, max_iterations=settings.max_iterations,
+                        scheduler=ts.scheduler, cache=ts.cache)
+    res = solve_interface_normal(pb.operator.normal, pb.gap, law, float(force), tol=max(settings.tolerance, 1e-9))
+    return law, res, range_info
+
+
+def _tangential_result(pb, res, slip_state, mu: float) -> TangentialResult:
+    """A macro slip state as a TangentialResult for fields.nc (shear and slip along x)."""
+    shear = np.zeros((2,) + pb.grid.shape)
+    shear[0] = slip_state.shear
+    slip = np.zeros_like(shear)
+    slip[0] = slip_state.slip
+    contact = res.pressure > 0
+    top = mu * np.where(contact, res.pressure, 0.0)
+    stick = contact & (slip_state.shear < 0.999 * top)
+    return TangentialResult(grid=pb.grid, shear=shear, slip=slip, relative_displacement=slip.copy(), contact=contact,
+                            stick=stick, force_x=slip_state.force, force_y=0.0,
+                            displacement_x=slip_state.displacement, displacement_y=0.0, friction_coefficient=mu,
+                            mode="total", control="force", iterations=slip_state.newton_iterations,
+                            residual_history=np.array([slip_state.residual]), converged=slip_state.converged,
+                            gross_slip=False, time=slip_state.time, info={"two_scale": True})
+
+
+def run_partial_slip(pb, bar, settings: SolverSettings) -> RunOutput:
+    """Kind ``partial_slip`` with ``[two_scale]``: a tangential ramp at ``load.force``.
+
+    The macro normal state is solved once (two-scale, as :func:`run_normal`), the windows give
+    the slip law at :data:`SLIP_PRESSURES` pressures, and each tangential force of
+    ``friction.tangential_forces`` (``"auto"``: :data:`AUTO_FRACTIONS` of mu F) is solved at
+    macro scale (:func:`tribobem.two_scale.tangential.solve_interface_tangential`).
+
+    Parameters
+    ----------
+    pb : Problem
+        The built two-scale problem (its operator has the x, y, z components).
+    bar : progress handler
+    settings : SolverSettings
+
+    Returns
+    -------
+    RunOutput
+        One step per tangential force below the static friction; run-level ``static_friction_force``
+        (mu F), ``presliding_displacement`` (at the largest solved force) and the displacements at
+        0.5 and 0.9 of the static friction (``displacement_at_half_static_friction``,
+        ``displacement_at_0p9_static_friction``).
+    """
+    sc = pb.scenario
+    ts, fr = sc.two_scale, sc.friction
+    mu = float(fr.coefficient)
+    force = float(sc.load.force)
+    bar.phase("micro windows (normal)", 1)
+    law, res, range_info = _normal_state(pb, settings, force)
+    bar(1, 1)
+    slip_p = np.geomspace(law.pressures[0] * 10.0, law.pressures[-1], SLIP_PRESSURES)
+    bar.phase("micro windows (tangential)", 1)
+    try:
+        slip_law = interface_slip_law(pb.two_scale, slip_p, mu, tol=max(settings.tolerance, 1e-8),
+                                      max_iterations=settings.max_iterations, scheduler=ts.scheduler, cache=ts.cache)
+    except ValueError as exc:
+        raise InputError("two_scale", f"the windows' slip table cannot be built: {exc}") from None
+    bar(1, 1)
+    static = mu * res.force
+    if fr.tangential_forces == "auto" or fr.tangential_forces is None:
+        forces = [f * static for f in AUTO_FRACTIONS]
+    else:
+        forces = [float(f) for f in fr.tangential_forces]
+    limit = slip_law.max_fraction * static
+    solvable = [f for f in forces if 0 <= f < limit]
+    state = _macro_result(pb, res)
+    real_fraction = law.contact_fraction(res.pressure)
+    rows, results, tangential, messages = [], [], [], []
+    bar.phase("macro tangential steps", len(solvable))
+    previous = None
+    curve = []
+    for k, f in enumerate(solvable):
+        r = solve_interface_tangential(pb.operator, res.pressure, slip_law, f, real_fraction=real_fraction,
+                                       initial_shear=previous, tol=max(settings.tolerance, 1e-9))
+        previous = r.shear if f > 0 else None
+        t = _tangential_result(pb, res, r, mu)
+        row = _row(pb, state, res)
+        row.update(t.scalars())
+        row["stick_ratio"] = r.stick_ratio
+        row["stick_area"] = r.stick_ratio * res.real_contact_area
+        row["slip_area"] = (1.0 - r.stick_ratio) * res.real_contact_area
+        row["branch"] = "ramp"
+        row["converged"] = bool(res.converged and r.converged)
+        rows.append(row)
+        results.append(state)
+        tangential.append(t)
+        curve.append((r.force, r.displacement))
+        bar(k + 1, len(solvable))
+    fx = np.array([c[0] for c in curve])
+    dx = np.array([c[1] for c in curve])
+
+    def displacement_at(frac):
+        target = frac * static
+        if fx.size < 2 or target > fx.max():
+            return None
+        return float(np.interp(target, fx, dx))
+
+    run = {"friction_coefficient": mu, "slip": "total", "direction": 0.0,
+           "tangential_forces_auto": forces if fr.tangential_forces in (None, "auto") else None,
+           "gross_slip": bool(len(solvable) < len(forces)),
+           "static_friction_force": static, "static_friction_ratio": 1.0,
+           "presliding_displacement": float(dx[-1]) if dx.size else None,
+           "displacement_at_half_static_friction": displacement_at(0.5),
+           "displacement_at_0p9_static_friction": displacement_at(0.9),
+           "repulsive_force": res.force, "adhesive_force": 0.0,
+           "two_scale": {**range_info, "law": law.as_dict(), "slip_law": slip_law.as_dict()}}
+    if len(solvable) < len(forces):
+        messages.append(f"two_scale: {len(forces) - len(solvable)} tangential force(s) at or above "
+                        f"{slip_law.max_fraction:g} mu F = {limit:.4g} N were not solved: the burl slides as a whole at "
+                        f"mu F = {static:.4g} N (every window at its own mu p)")
+    if slip_law.info.get("not_converged"):
+        messages.append(f"two_scale: {slip_law.info['not_converged']} of {slip_law.info['solves']} micro tangential "
+                        "solves did not converge")
+    labels = [f"ramp {k}" for k in range(len(rows))]
+    return RunOutput(rows=rows, results=results, tangential=tangential, labels=labels,
+                     indices=list(range(len(rows))), run=run, warnings=messages)

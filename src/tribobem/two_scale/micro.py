@@ -37,7 +37,8 @@ from ..materials import ContactPair
 from ..solvers.normal_paths import force_curve
 from .laws import NormalInterfaceLaw
 
-__all__ = ["MicroWindows", "window_table", "interface_law", "default_cache_dir", "TABLE_VERSION"]
+__all__ = ["MicroWindows", "window_table", "interface_law", "compute_tables", "table_key", "default_cache_dir",
+           "TABLE_VERSION"]
 
 #: The format of a cached table (part of its key): bumped when a table gains or changes a column.
 TABLE_VERSION = 1
@@ -77,13 +78,17 @@ def default_cache_dir() -> Path:
     return base / "two_scale"
 
 
-def _table_key(grid: Grid, pair: ContactPair, gap: np.ndarray, interaction, pressures, tol: float,
-               max_iterations: int) -> str:
+def table_key(grid: Grid, pair: ContactPair, gap: np.ndarray, interaction, pressures, tol: float,
+               max_iterations: int, **extra) -> str:
+    """The cache key of a window's table: SHA-256 of its gap, grid, materials, stress law,
+    pressures, solver settings, solver and table versions, and ``extra`` (e.g. mu, fractions)."""
     h = hashlib.sha256()
     h.update(np.ascontiguousarray(gap, dtype=np.float64).tobytes())
     meta = {"grid": [grid.nx, grid.ny, grid.lx, grid.ly], "pair": repr(pair), "interaction": repr(interaction),
             "pressures": [float(p).hex() for p in pressures], "tol": tol, "max_iterations": max_iterations,
-            "solver_version": SOLVER_VERSION, "table_version": TABLE_VERSION}
+            "solver_version": SOLVER_VERSION, "table_version": TABLE_VERSION,
+            **{k: (v if not isinstance(v, (list, tuple, np.ndarray)) else [float(x).hex() for x in v])
+               for k, v in extra.items()}}
     h.update(json.dumps(meta, sort_keys=True).encode())
     return h.hexdigest()
 
@@ -147,21 +152,18 @@ def _largest_patch_cells(contact: np.ndarray) -> float:
     return float(2.0 * np.sqrt(largest / np.pi))
 
 
-def _cached_table(args: tuple, cache_dir: str | None) -> dict:
-    """:func:`window_table` of ``args``, read from or written to ``cache_dir`` (None: no cache)."""
-    grid, pair, gap, pressures, interaction, tol, max_iterations = args
-    path = None
-    if cache_dir is not None:
-        key = _table_key(grid, pair, gap, interaction, pressures, tol, max_iterations)
-        path = Path(cache_dir) / f"{key}.json"
-        if path.exists():
-            try:
-                table = json.loads(path.read_text())
-                table["cached"] = True
-                return table
-            except (OSError, ValueError):
-                pass  # unreadable (e.g. written by a killed run): recompute
-    table = window_table(grid, pair, gap, pressures, interaction=interaction, tol=tol, max_iterations=max_iterations)
+def _cached_call(fn, kwargs: dict, key: str, cache_dir: str | None) -> dict:
+    """``fn(**kwargs)`` (a table as a dict), read from or written to ``cache_dir/<key>.json``
+    (None: no cache)."""
+    path = Path(cache_dir) / f"{key}.json" if cache_dir is not None else None
+    if path is not None and path.exists():
+        try:
+            table = json.loads(path.read_text())
+            table["cached"] = True
+            return table
+        except (OSError, ValueError):
+            pass  # unreadable (e.g. written by a killed run): recompute
+    table = fn(**kwargs)
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_suffix(f".tmp{os.getpid()}")
@@ -171,12 +173,31 @@ def _cached_table(args: tuple, cache_dir: str | None) -> dict:
     return table
 
 
-def _compute(tasks: list, cache_dir, scheduler: str) -> list:
+def compute_tables(tasks: list, cache: bool, cache_dir, scheduler: str) -> list:
+    """Run the window tasks ``(fn, kwargs, key)`` through the cache and Dask (module docstring).
+
+    Parameters
+    ----------
+    tasks : list of (callable, dict, str)
+        The table function, its keyword arguments and the cache key of each window.
+    cache : bool
+        Use the cache.
+    cache_dir : path or None
+        Default :func:`default_cache_dir`.
+    scheduler : str
+        ``"synchronous"``, ``"threads"``, ``"processes"`` or a Dask scheduler address.
+
+    Returns
+    -------
+    list of dict
+        The tables, in task order, each with ``cached`` (bool).
+    """
+    where = (str(cache_dir) if cache_dir is not None else str(default_cache_dir())) if cache else None
     if scheduler == "synchronous" or len(tasks) == 1:
-        return [_cached_table(t, cache_dir) for t in tasks]
+        return [_cached_call(fn, kw, key, where) for fn, kw, key in tasks]
     import dask
 
-    delayed = [dask.delayed(_cached_table)(t, cache_dir) for t in tasks]
+    delayed = [dask.delayed(_cached_call)(fn, kw, key, where) for fn, kw, key in tasks]
     if scheduler in ("threads", "processes"):
         return list(dask.compute(*delayed, scheduler=scheduler))
     from dask.distributed import Client  # an address: a running dask.distributed scheduler
@@ -213,9 +234,11 @@ def interface_law(windows: MicroWindows, pressures, *, tol: float = 1e-8, max_it
     pressures = np.asarray(pressures, dtype=float)
     if pressures.ndim != 1 or pressures.size < 3 or not np.all(np.diff(pressures) > 0) or pressures[0] <= 0:
         raise InputError("two_scale.pressures", "the table needs at least 3 increasing positive pressures")
-    where = (str(cache_dir) if cache_dir is not None else str(default_cache_dir())) if cache else None
-    tasks = [(windows.grid, windows.pair, g, pressures, windows.interaction, tol, max_iterations) for g in windows.gaps]
-    tables = _compute(tasks, where, scheduler)
+    tasks = [(window_table, {"grid": windows.grid, "pair": windows.pair, "gap": g, "pressures": pressures,
+                             "interaction": windows.interaction, "tol": tol, "max_iterations": max_iterations},
+              table_key(windows.grid, windows.pair, g, windows.interaction, pressures, tol, max_iterations))
+             for g in windows.gaps]
+    tables = compute_tables(tasks, cache, cache_dir, scheduler)
     info = dict(windows.info)
     info.update({"cached": int(sum(t.get("cached", False) for t in tables)),
                  "iterations": int(sum(sum(t["iterations"]) for t in tables)),

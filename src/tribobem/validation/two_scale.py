@@ -8,6 +8,11 @@
     A linear interface law g = g0 - p/k is a uniform compliant (Winkler) layer: on a periodic
     sinusoidal macro gap in full contact the nominal pressure is exactly one harmonic,
     P1 = A / (2/(E* q) + 1/k), and delta = A - g0 + P0/k.
+``two_scale_partial_slip``
+    The small rough burl's tangential ramp (mu = 0.2) against whole-burl ramps of the coupled
+    dissimilar pair (:data:`WHOLE_BURL_SLIP`): static friction within 3 %, the tangential
+    displacement at 0.5 and 0.9 of it within 10 % (or the realisations' scatter).  The quick
+    tier compares 20 nm cells on both sides, the gate 10 nm.
 ``two_scale_whole_burl``
     A rough SiC burl on a Si wafer (Gaussian roughness 1.5 nm rms, 50 nm correlation length,
     about 53 MPa over the flat top) solved whole at 10 nm cells (:data:`WHOLE_BURLS`: four
@@ -34,9 +39,11 @@ from ..materials import ContactPair, Material
 from ..two_scale.laws import NormalInterfaceLaw
 from ..two_scale.macro import solve_interface_normal
 from ..two_scale.micro import MicroWindows, interface_law
+from ..two_scale.tangential import interface_slip_law, solve_interface_tangential
 from .common import ValidationRow, _row
 
-__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "PAIR", "RMS", "CORRELATION", "two_scale_burl"]
+__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "WHOLE_BURL_SLIP", "PAIR", "RMS", "CORRELATION", "MU",
+           "two_scale_burl", "two_scale_burl_slip"]
 
 #: The validation pair: Si wafer (body 1, rough) and SiC burl (body 2).
 PAIR = ContactPair(Material(130e9, 0.28), Material(410e9, 0.14))
@@ -63,6 +70,23 @@ WHOLE_BURLS: dict = {
 #: The whole small burl at 20 nm cells (512^2, seed 100): the quick tier's reference, which the
 #: quick tier recomputes (a second), so that it needs nothing committed.
 QUICK_N = 512
+
+#: Friction coefficient of the partial-slip validation.
+MU = 0.2
+
+#: Whole-burl partial-slip ramps of the small burl (``kind = "partial_slip"``, ``tangential_forces =
+#: "auto"``, mu = 0.2, the coupled dissimilar pair; ``python -m studies.two_scale --whole-slip``):
+#: static friction (N), its ratio to mu F0+, and the tangential displacement (m) at 0.5 and 0.9
+#: of the static friction, per roughness seed.  "n512": 20 nm cells (18 s of CPU each), "n1024":
+#: 10 nm cells.
+WHOLE_BURL_SLIP: dict = {
+    "n512": {"seeds": [100], "static_friction_force": [2.986553314e-04], "static_friction_ratio": [0.99551777],
+             "d50": [3.686585161e-10], "d90": [7.790328245e-10]},
+    # 87-102 s of CPU and 3.0 GB per ramp (2026-12-02)
+    "n1024": {"seeds": [100, 101], "static_friction_force": [2.992036173e-04, 2.988737150e-04],
+              "static_friction_ratio": [0.99734539, 0.99624572], "d50": [3.689565196e-10, 3.693524299e-10],
+              "d90": [7.858565667e-10, 8.001176401e-10]},
+}
 
 
 def two_scale_burl(name: str, *, window: float = 1e-6, window_n: int | None = None, realisations: int = 4,
@@ -110,6 +134,59 @@ def two_scale_burl(name: str, *, window: float = 1e-6, window_n: int | None = No
             "max_pressure": res.max_pressure, "converged": bool(res.converged and law.converged),
             "beyond_table": res.beyond_table, "cpu_s": time.process_time() - t, "window": window,
             "window_n": window_n, "realisations": realisations, "macro_n": macro_n, "pressures": pressures}
+
+
+def two_scale_burl_slip(name: str = "small", *, window: float = 1e-6, window_n: int | None = None,
+                        realisations: int = 4, macro_n: int = 128, seed0: int = 0) -> dict:
+    """The two-scale tangential ramp of validation burl ``name`` at mu = :data:`MU`.
+
+    Returns
+    -------
+    dict
+        ``static_friction_force`` (N, mu F), ``d50`` and ``d90`` (m: the tangential displacement at
+        0.5 and 0.9 of it), ``converged``, ``cpu_s``.
+    """
+    b = BURLS[name]
+    if window_n is None:
+        window_n = int(round(window / (b["size"] / b["n"])))
+    t = time.process_time()
+    wgrid = Grid(window_n, window_n, window, window, periodic=True)
+    gaps = []
+    for k in range(realisations):
+        z = gaussian_surface(wgrid, RMS, CORRELATION, seed=seed0 + k)
+        gaps.append(z.max() - z)
+    windows = MicroWindows(wgrid, PAIR, gaps)
+    mean_p = b["force"] / (math.pi * b["radius"] ** 2)
+    law = interface_law(windows, np.geomspace(1e-3 * mean_p, 20 * mean_p, 32), cache=False)
+    slip_law = interface_slip_law(windows, np.geomspace(1e-2 * mean_p, 20 * mean_p, 12), MU, cache=False)
+    grid = Grid(macro_n, macro_n, b["size"], b["size"])
+    op = free_boundary_operator(grid, PAIR, components=("x", "y", "z"))
+    res = solve_interface_normal(op.normal, burl(grid, b["radius"], b["edge_radius"]), law, b["force"], tol=1e-9)
+    static = MU * res.force
+    out, ok, prev = {}, bool(res.converged and law.converged and slip_law.converged), None
+    for key, frac in (("d50", 0.5), ("d90", 0.9)):
+        r = solve_interface_tangential(op, res.pressure, slip_law, frac * static, initial_shear=prev, tol=1e-9)
+        prev = r.shear
+        out[key] = r.displacement
+        ok = ok and r.converged
+    return {"static_friction_force": static, **out, "converged": ok, "cpu_s": time.process_time() - t,
+            "window_n": window_n, "realisations": realisations, "macro_n": macro_n}
+
+
+def _slip_rows(quick: bool) -> list[ValidationRow]:
+    case = "two_scale_partial_slip"
+    key = "n512" if quick or "n1024" not in WHOLE_BURL_SLIP else "n1024"
+    ref = WHOLE_BURL_SLIP[key]
+    ts = two_scale_burl_slip("small", window_n=50 if key == "n512" else 100)
+    rows = []
+    fs = float(np.mean(ref["static_friction_force"]))
+    rows.append(_row(case, f"small burl, {key}: static friction (N)", fs, ts["static_friction_force"],
+                     max(0.03, float(np.ptp(ref["static_friction_force"])) / 2 / fs)))
+    for q, label in (("d50", "0.5"), ("d90", "0.9")):
+        d = float(np.mean(ref[q]))
+        rows.append(_row(case, f"small burl, {key}: tangential displacement at {label} F_s (m)", d, ts[q],
+                         max(0.10, float(np.ptp(ref[q])) / 2 / d)))
+    return rows
 
 
 def _smooth_rows(quick: bool) -> list[ValidationRow]:
@@ -183,4 +260,5 @@ CASES = {
     "two_scale_smooth": _smooth_rows,
     "two_scale_layer": _layer_rows,
     "two_scale_whole_burl": _whole_burl_rows,
+    "two_scale_partial_slip": _slip_rows,
 }

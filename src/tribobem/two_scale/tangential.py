@@ -1,0 +1,386 @@
+"""The tangential law of a rough interface and the macro partial-slip solve with it.
+
+Micro: each periodic window, pressed at a tabulated nominal pressure p (its normal state from
+:func:`tribobem.two_scale.micro.window_table`'s ladder), is loaded by a mean shear tau = f mu p
+for a ladder of fractions f < 1 (:func:`tribobem.solvers.tangential.solve_tangential`, Coulomb
+friction node by node, warm-started along f).  Its rigid tangential displacement (body 2 against
+body 1) is the interface's slip s(tau; p): the periodic window carries no q = 0 displacement, so
+s is the asperities' own partial slip and micro-scale elasticity, and the burl's elasticity is
+the macro operator's.  The window slides as a whole at f = 1 (tau = mu p).
+
+Macro: with the nominal pressure p(x) of the macro normal solve fixed (the macro normal-
+tangential coupling of dissimilar bodies is left out; the windows keep theirs), the shear
+tau(x) of the loaded cells and the rigid tangential displacement delta solve
+
+    (G_xx tau)(x) + s(tau(x); p(x)) = delta,   sum(tau) dA = F_x,   0 <= tau < mu p,
+
+by the projected Newton iteration of the normal macro solve (:mod:`tribobem.two_scale.macro`):
+s increases with tau, so the problem is the stationarity of a convex functional.  The static
+friction of the burl is sum(mu p) dA = mu F (every cell at its window's gross slip); a
+tangential force above it has no solution.
+
+This is loading from the undeformed state at constant normal load (a monotonic ramp): the
+unloading and reloading branches (Masing's rule s* - 2 s((tau* - tau)/2)) are not built yet.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..elasticity.operators import periodic_operator
+from ..errors import ConvergenceWarning, InputError
+from ..solvers.normal_paths import force_curve
+from ..solvers.tangential import GrossSlipError, solve_tangential
+from .macro import _cg, _self_compliance
+
+__all__ = ["SLIP_FRACTIONS", "TangentialInterfaceLaw", "window_slip_table", "interface_slip_law",
+           "InterfaceSlipResult", "solve_interface_tangential"]
+
+#: The shear fractions f = tau / (mu p) of the micro slip tables (the window slides at f = 1).
+SLIP_FRACTIONS = (0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 0.98, 0.995)
+
+
+def window_slip_table(grid, pair, gap, pressures, friction_coefficient: float, *, fractions=SLIP_FRACTIONS,
+                      interaction=None, tol: float = 1e-8, max_iterations: int = 10000) -> dict:
+    """One window's slip table: its rigid tangential displacement at tau = f mu p.
+
+    Parameters
+    ----------
+    grid : Grid
+        Periodic window grid (m).
+    pair : ContactPair
+        The materials.
+    gap : ndarray
+        The window's initial gap (m, minimum 0).
+    pressures : sequence of float
+        Nominal pressures (Pa), increasing.
+    friction_coefficient : float
+        mu (> 0).
+    fractions : sequence of float
+        f in (0, 1), increasing.
+    interaction : Interaction, optional
+        Stress law outside contact (normal solves).
+    tol, max_iterations : float, int
+        Normal and tangential solver settings.
+
+    Returns
+    -------
+    dict
+        ``slips`` (m, shape (pressures, fractions)), ``stick_ratios`` (same shape), ``converged``.
+    """
+    op = periodic_operator(grid, pair, components=("x", "y", "z"))
+    area = grid.lx * grid.ly
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        curve = force_curve(op, gap, [float(p) * area for p in pressures], interaction=interaction, unload=False,
+                            tol=tol, max_iterations=max_iterations, keep_fields=True)
+        slips = np.full((len(pressures), len(fractions)), np.nan)
+        stick = np.full_like(slips, np.nan)
+        ok = np.ones_like(slips, dtype=bool)
+        for i, state in enumerate(curve.results):
+            shear = None
+            capacity = friction_coefficient * float(np.sum(np.clip(state.pressure, 0, None))) * grid.dx * grid.dy
+            for j, f in enumerate(fractions):
+                try:
+                    t = solve_tangential(op, state.pressure, state.contact, friction_coefficient=friction_coefficient,
+                                         force=(f * capacity, 0.0), initial_shear=shear, tol=tol,
+                                         max_iterations=max_iterations)
+                except GrossSlipError:
+                    ok[i, j:] = False
+                    break
+                slips[i, j] = t.displacement_x
+                stick[i, j] = t.stick_ratio
+                ok[i, j] = bool(t.converged)
+                shear = t.shear
+    return {"slips": slips.tolist(), "stick_ratios": stick.tolist(), "converged": ok.tolist()}
+
+
+@dataclass
+class TangentialInterfaceLaw:
+    """Interface slip s(tau; p) (m) against mean shear tau and nominal pressure p.
+
+    Attributes
+    ----------
+    pressures : ndarray, shape (m,)
+        Nominal pressures (Pa), increasing.
+    fractions : ndarray, shape (k,)
+        Shear fractions f = tau / (mu p), increasing in (0, 1).
+    slips : ndarray, shape (m, k)
+        Mean over the realisations of the windows' tangential displacement (m).
+    stick_ratios : ndarray, shape (m, k)
+        Mean stick fraction of the windows' real contact area.
+    friction_coefficient : float
+        mu.
+    slip_spread : ndarray, shape (m, k)
+        Standard deviation of the slip between realisations (m).
+    converged : bool
+    realisations : int
+    """
+
+    pressures: np.ndarray
+    fractions: np.ndarray
+    slips: np.ndarray
+    stick_ratios: np.ndarray
+    friction_coefficient: float
+    slip_spread: np.ndarray
+    converged: bool = True
+    realisations: int = 1
+    info: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        self.pressures = np.asarray(self.pressures, float)
+        self.fractions = np.asarray(self.fractions, float)
+        self.slips = np.asarray(self.slips, float)
+        if not np.all(np.isfinite(self.slips)):
+            raise ValueError("the slip table has missing entries (a window slid before tau = mu p)")
+        if not np.all(np.diff(self.slips, axis=1) > 0):
+            raise ValueError("the slip must increase with the shear at every pressure")
+        # slip per unit fraction, s(f)/f, is smooth in f and in ln p; tabulated with f = 0 added
+        self._lnp = np.log(self.pressures)
+        self._f = np.concatenate([[0.0], self.fractions])
+        self._s = np.concatenate([np.zeros((self.pressures.size, 1)), self.slips], axis=1)
+
+    @property
+    def max_fraction(self) -> float:
+        """The largest tabulated fraction (the macro shear stays below it times mu p)."""
+        return float(self.fractions[-1])
+
+    def _row(self, p):
+        """Interpolation weights in ln p (clamped to the table): rows i, i+1 and weight w."""
+        x = np.clip(np.log(np.maximum(p, self.pressures[0])), self._lnp[0], self._lnp[-1])
+        i = np.clip(np.searchsorted(self._lnp, x, side="right") - 1, 0, self._lnp.size - 2)
+        w = (x - self._lnp[i]) / (self._lnp[i + 1] - self._lnp[i])
+        return i, w
+
+    def slip(self, tau, p):
+        """s(tau; p) (m) and ds/dtau (m/Pa) at shears ``tau`` (Pa) and pressures ``p`` (Pa), arrays of
+        one shape; piecewise linear in f = tau/(mu p) and in ln p."""
+        tau, p = np.asarray(tau, float), np.asarray(p, float)
+        i, w = self._row(p)
+        cap = self.friction_coefficient * p
+        f = np.clip(tau / np.maximum(cap, 1e-300), 0.0, self._f[-1])
+        j = np.clip(np.searchsorted(self._f, f, side="right") - 1, 0, self._f.size - 2)
+        df = self._f[j + 1] - self._f[j]
+        u = (f - self._f[j]) / df
+        s_lo = self._s[i, j] * (1 - u) + self._s[i, j + 1] * u
+        s_hi = self._s[i + 1, j] * (1 - u) + self._s[i + 1, j + 1] * u
+        s = s_lo * (1 - w) + s_hi * w
+        slope = ((self._s[i, j + 1] - self._s[i, j]) * (1 - w) + (self._s[i + 1, j + 1] - self._s[i + 1, j]) * w) / df
+        return s, slope / np.maximum(cap, 1e-300)
+
+    def stick_ratio(self, tau, p):
+        """The windows' stick fraction at shears ``tau`` and pressures ``p`` (1 at tau = 0)."""
+        tau, p = np.asarray(tau, float), np.asarray(p, float)
+        i, w = self._row(p)
+        st = np.concatenate([np.ones((self.pressures.size, 1)), np.asarray(self.stick_ratios, float)], axis=1)
+        f = np.clip(tau / np.maximum(self.friction_coefficient * p, 1e-300), 0.0, self._f[-1])
+        lo = np.array([np.interp(fv, self._f, st[k]) for fv, k in zip(f.ravel(), i.ravel())]).reshape(f.shape)
+        hi = np.array([np.interp(fv, self._f, st[k + 1]) for fv, k in zip(f.ravel(), i.ravel())]).reshape(f.shape)
+        return lo * (1 - w) + hi * w
+
+    def as_dict(self) -> dict:
+        """The table as plain lists (SI)."""
+        return {"pressures": self.pressures.tolist(), "fractions": self.fractions.tolist(),
+                "slips": self.slips.tolist(), "stick_ratios": np.asarray(self.stick_ratios).tolist(),
+                "slip_spread": np.asarray(self.slip_spread).tolist(), "friction_coefficient": self.friction_coefficient,
+                "converged": bool(self.converged), "realisations": int(self.realisations), "info": dict(self.info)}
+
+    @classmethod
+    def from_realisations(cls, pressures, fractions, friction_coefficient, tables, info=None):
+        """Average per-realisation tables of :func:`window_slip_table`."""
+        slips = np.array([t["slips"] for t in tables], float)
+        stick = np.array([t["stick_ratios"] for t in tables], float)
+        return cls(pressures=np.asarray(pressures, float), fractions=np.asarray(fractions, float),
+                   slips=slips.mean(axis=0), stick_ratios=stick.mean(axis=0), friction_coefficient=friction_coefficient,
+                   slip_spread=slips.std(axis=0), converged=bool(all(np.all(t["converged"]) for t in tables)),
+                   realisations=len(tables), info=dict(info or {}))
+
+
+def interface_slip_law(windows, pressures, friction_coefficient: float, *, fractions=SLIP_FRACTIONS,
+                       tol: float = 1e-8, max_iterations: int = 10000, scheduler: str = "synchronous",
+                       cache: bool = True, cache_dir=None) -> TangentialInterfaceLaw:
+    """The tangential interface law of ``windows`` (cached, through Dask like the normal tables).
+
+    Parameters
+    ----------
+    windows : MicroWindows
+        The windows (one gap per realisation).
+    pressures : sequence of float
+        Nominal pressures (Pa) of the slip table, increasing.
+    friction_coefficient : float
+        mu (> 0).
+    fractions : sequence of float
+        Shear fractions f = tau / (mu p) in (0, 1).
+    tol, max_iterations, scheduler, cache, cache_dir
+        As :func:`tribobem.two_scale.micro.interface_law`.
+
+    Returns
+    -------
+    TangentialInterfaceLaw
+    """
+    from .micro import compute_tables, table_key
+
+    pressures = np.asarray(pressures, float)
+    tasks = [(window_slip_table, {"grid": windows.grid, "pair": windows.pair, "gap": g, "pressures": pressures,
+                                  "friction_coefficient": float(friction_coefficient), "fractions": tuple(fractions),
+                                  "interaction": windows.interaction, "tol": tol, "max_iterations": max_iterations},
+              table_key(windows.grid, windows.pair, g, windows.interaction, pressures, tol, max_iterations,
+                        kind="slip", friction_coefficient=float(friction_coefficient), fractions=list(fractions)))
+             for g in windows.gaps]
+    tables = compute_tables(tasks, cache, cache_dir, scheduler)
+    info = {"cached": int(sum(t.get("cached", False) for t in tables)),
+            "not_converged": int(sum(int(np.size(t["converged"]) - np.sum(t["converged"])) for t in tables)),
+            "solves": int(sum(np.size(t["converged"]) for t in tables))}
+    return TangentialInterfaceLaw.from_realisations(pressures, fractions, float(friction_coefficient), tables, info)
+
+
+@dataclass
+class InterfaceSlipResult:
+    """One macro partial-slip state.
+
+    Attributes
+    ----------
+    shear : ndarray
+        Nominal shear tau of each macro cell (Pa), along x.
+    slip : ndarray
+        Interface slip s(tau; p) of each cell (m).
+    displacement : float
+        Rigid tangential displacement delta of body 2 relative to body 1 (m).
+    force : float
+        Tangential force (N).
+    stick_ratio : float
+        Stick fraction of the real contact area (the windows' stick fraction, weighted by the
+        cells' real contact area).
+    newton_iterations, cg_iterations : int
+    residual : float
+    converged : bool
+    time : float
+    """
+
+    shear: np.ndarray
+    slip: np.ndarray
+    displacement: float
+    force: float
+    stick_ratio: float
+    newton_iterations: int
+    cg_iterations: int
+    residual: float
+    converged: bool
+    time: float = 0.0
+
+
+def _tangential_block(operator):
+    """The x-x block of a coupled operator as a compliance (positive displacement along the shear)."""
+    op = operator.block("x", "x")
+    c0 = _self_compliance(op)
+    return op, (1.0 if c0 > 0 else -1.0), abs(c0)
+
+
+def solve_interface_tangential(operator, pressure, law: TangentialInterfaceLaw, force: float, *, real_fraction=None,
+                               initial_shear=None, tol: float = 1e-9, max_newton: int = 100,
+                               cg_tol: float = 1e-10, max_cg: int = 2000) -> InterfaceSlipResult:
+    """The macro partial-slip state at a tangential force (module docstring).
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        The macro operator with components ("x", "y", "z") (its x-x block is used).
+    pressure : ndarray
+        Nominal pressure of the macro cells (Pa), from the macro normal solve.
+    law : TangentialInterfaceLaw
+        The interface slip law.
+    force : float
+        Tangential force F_x (N), 0 <= F_x < mu sum(p) dA (times the table's largest fraction).
+    real_fraction : ndarray, optional
+        The cells' real contact fraction (weights of the stick ratio); default uniform.
+    initial_shear : ndarray, optional
+        A start (the previous step of a ramp).
+    tol : float
+        Convergence: max |G tau + s - delta| over the loaded cells, relative to max |G tau| + max s.
+
+    Returns
+    -------
+    InterfaceSlipResult
+
+    Raises
+    ------
+    InputError
+        ``force``: negative, or at or beyond the static friction of the table's largest fraction.
+    """
+    t0 = time.perf_counter()
+    op, sign, c0 = _tangential_block(operator)
+    p = np.asarray(pressure, float)
+    dA = op.grid.dx * op.grid.dy
+    loaded = p > 0
+    cap = law.friction_coefficient * np.where(loaded, p, 0.0)
+    top = law.max_fraction * cap
+    if not 0 <= force < float(top.sum()) * dA:
+        raise InputError("force", f"must lie in [0, {float(top.sum()) * dA:.6g}) N (the table's largest fraction "
+                         f"{law.max_fraction:g} of the static friction mu F = {float(cap.sum()) * dA:.6g} N), got {force!r}")
+    if force == 0:
+        return InterfaceSlipResult(np.zeros_like(p), np.zeros_like(p), 0.0, 0.0, 1.0, 0, 0, 0.0, True,
+                                   time.perf_counter() - t0)
+
+    def G(x):
+        return sign * op.apply(x)
+
+    tau = (np.where(loaded, cap, 0.0) * (force / (float(cap.sum()) * dA)) if initial_shear is None
+           else np.clip(np.asarray(initial_shear, float), 0.0, top))
+    # cells whose window slides (tau at the table's top): their shear is fixed and their slip is
+    # whatever delta - G tau leaves, at least the table's last slip (like a contact constraint)
+    sliding = loaded & (tau >= top * (1 - 1e-12))
+    delta, total_cg, converged, residual = 0.0, 0, False, np.inf
+    for it in range(1, max_newton + 1):
+        u = G(tau)
+        s, D = law.slip(np.where(loaded, tau, 0.0), np.where(loaded, p, 1.0))
+        s, D = np.where(loaded, s, 0.0), np.where(loaded, D, 0.0)
+        free = loaded & ~sliding
+        if it > 1:
+            scale = float(np.max(np.abs(u[loaded]))) + float(np.max(np.abs(s[loaded]))) + 1e-300
+            residual = float(np.max(np.abs(u[free] + s[free] - delta))) / scale if free.any() else 0.0
+            # a sliding cell is consistent when the slip it is left with reaches the table's top
+            released = sliding & (delta - u < s - tol * scale)
+            if residual <= tol and not released.any():
+                converged = True
+                break
+            if released.any():
+                sliding = sliding & ~released
+                free = loaded & ~sliding
+        mask = free.astype(float)
+        fixed = np.where(sliding, top, 0.0)
+        b = np.where(free, D * tau - s - G(fixed), 0.0)
+
+        def apply(x, D=D, mask=mask):
+            return mask * G(mask * x) + D * mask * x + (1.0 - mask) * x
+
+        diag = np.where(free, c0 + D, 1.0)
+        x, kx = _cg(apply, b, diag, np.where(free, tau, 0.0), cg_tol, max_cg)
+        y, ky = _cg(apply, mask, diag, np.zeros_like(tau), cg_tol, max_cg)
+        total_cg += kx + ky
+        delta = (force / dA - float(fixed.sum()) - float(x[free].sum())) / float(y[free].sum())
+        tau_free = np.where(free, x + delta * y, 0.0)
+        # cells pushed past the top start sliding; the force is restored on the others
+        over = free & (tau_free >= top)
+        tau_new = np.where(sliding | over, top, np.clip(tau_free, 0.0, None))
+        sliding = sliding | over
+        rest = loaded & ~sliding
+        if rest.any() and tau_new.sum() * dA != force:
+            corr = (force / dA - float(tau_new.sum())) / float(y[rest].sum())
+            tau_new = np.where(rest, np.clip(tau_new + corr * y, 0.0, top), tau_new)
+            delta += corr
+        tau = tau_new
+    s, _ = law.slip(np.where(loaded, tau, 0.0), np.where(loaded, p, 1.0))
+    s = np.where(loaded, s, 0.0)
+    weight = np.where(loaded, 1.0 if real_fraction is None else np.asarray(real_fraction, float), 0.0)
+    stick = law.stick_ratio(np.where(loaded, tau, 0.0), np.where(loaded, p, 1.0))
+    ratio = float((stick * weight).sum() / max(weight.sum(), 1e-300))
+    # delta of the free cells (where G tau + s = delta holds); all sliding: their mean
+    free = loaded & ~sliding
+    disp = float(delta) if free.any() else float(np.mean((G(tau) + s)[loaded]))
+    return InterfaceSlipResult(shear=tau, slip=s, displacement=disp, force=float(tau.sum() * dA), stick_ratio=ratio,
+                               newton_iterations=it, cg_iterations=total_cg, residual=residual, converged=converged,
+                               time=time.perf_counter() - t0)
