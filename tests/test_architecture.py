@@ -166,3 +166,17 @@ def test_tests_mirror_the_package_folders():
             misplaced.append(str(path.relative_to(TESTS)))
     assert not misplaced, f"test files outside a folder named after a tribobem subpackage: {misplaced}"
     assert len(list(TESTS.glob("test_*.py"))) == len(PROJECT_TESTS)
+
+
+def test_test_files_have_unique_names_outside_packages():
+    # pytest imports a test file of a folder without __init__.py by its bare name: two such files
+    # of one name make the second fail to collect ("import file mismatch")
+    seen: dict[str, Path] = {}
+    clashes = []
+    for path in sorted(TESTS.rglob("test_*.py")):
+        if (path.parent / "__init__.py").exists():
+            continue
+        if path.name in seen:
+            clashes.append(f"{seen[path.name].relative_to(TESTS)} and {path.relative_to(TESTS)}")
+        seen[path.name] = path
+    assert not clashes, f"test files of the same name in folders without __init__.py: {clashes}"
