@@ -579,7 +579,10 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
                        f"largest contact patch is {width / px[0]:.1f} pixel(s) across ({width:.3g} m; fewer than "
                        f"{MIN_CONTACT_CELLS:g}) in at least one saved state: the contact rests on heights the scan "
                        "did not resolve; use a scan with finer pixels or a larger load")
-    tan = [t for t in (tangential or []) if hasattr(t, "stick") and hasattr(t, "contact")]
+    # (a two-scale state's stick map marks where most of a window's contact sticks; its stick ratio
+    # and onset come from the windows, not from the macro cells, so the rule does not apply)
+    tan = [t for t in (tangential or []) if hasattr(t, "stick") and hasattr(t, "contact")
+           and not (getattr(t, "info", None) or {}).get("two_scale")]
     partial = [t for t in tan if np.asarray(t.stick, bool).any() and not bool(t.gross_slip)
                and np.any(np.asarray(t.contact, bool) & ~np.asarray(t.stick, bool))]
     if partial:

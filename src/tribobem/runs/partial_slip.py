@@ -257,7 +257,7 @@ _APPROACH = ("approach-controlled normal loads are not supported for kind = 'par
 KIND = RunKind(
     name="partial_slip", run=run, check=check,
     summary="partial slip along a tangential ramp or a normal-load path, to the gross-slip onset",
-    figures=("load_curve", "friction", "humid_friction", "maps"), report_sections=("friction", "humid_friction"),
+    figures=("load_curve", "friction", "humid_friction", "two_scale", "maps"), report_sections=("friction", "humid_friction"),
     columns=TANGENTIAL_COLUMNS, humid_columns=("rh",) + TANGENTIAL_COLUMNS,
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
              "presliding_displacement": "length", "max_tangential_force": "force",
