@@ -26,8 +26,8 @@ BASE = {
 }
 
 
-def scenario(**changes):
-    d = copy.deepcopy(BASE)
+def _override(d, changes):
+    """``d`` with dotted keys set (a None value removes the key)."""
     for dotted, value in changes.items():
         *path, last = dotted.split(".")
         node = d
@@ -38,6 +38,10 @@ def scenario(**changes):
         else:
             node[last] = value
     return d
+
+
+def scenario(**changes):
+    return _override(copy.deepcopy(BASE), changes)
 
 
 def whole_burl(n=512, seed=100):
@@ -168,16 +172,7 @@ def test_a_texture_that_does_not_tile_the_window_and_a_coarse_macro_grid():
 def slip_scenario(**changes):
     d = scenario(**{"kind": "partial_slip", "friction": {"coefficient": 0.2, "tangential_forces": "auto"},
                     "two_scale.window_n": 32, "two_scale.realisations": 2, "grid.n": 48})
-    for dotted, value in changes.items():
-        *path, last = dotted.split(".")
-        node = d
-        for p in path:
-            node = node.setdefault(p, {})
-        if value is None:
-            node.pop(last, None)
-        else:
-            node[last] = value
-    return d
+    return _override(d, changes)
 
 
 def test_two_scale_partial_slip_ramps_to_the_static_friction():

@@ -143,6 +143,7 @@ class TangentialInterfaceLaw:
         self._lnp = np.log(self.pressures)
         self._f = np.concatenate([[0.0], self.fractions])
         self._s = np.concatenate([np.zeros((self.pressures.size, 1)), self.slips], axis=1)
+        self._st = np.concatenate([np.ones((self.pressures.size, 1)), np.asarray(self.stick_ratios, float)], axis=1)
 
     @property
     def max_fraction(self) -> float:
@@ -156,31 +157,37 @@ class TangentialInterfaceLaw:
         w = (x - self._lnp[i]) / (self._lnp[i + 1] - self._lnp[i])
         return i, w
 
-    def slip(self, tau, p):
-        """s(tau; p) (m) and ds/dtau (m/Pa) at shears ``tau`` (Pa) and pressures ``p`` (Pa), arrays of
-        one shape; piecewise linear in f = tau/(mu p) and in ln p."""
-        tau, p = np.asarray(tau, float), np.asarray(p, float)
+    def _cell(self, tau, p):
+        """Bilinear interpolation indices of (f = tau/(mu p), ln p): rows i, i+1 (weight w), columns
+        j, j+1 (weight u), the column width df and the capacity mu p."""
         i, w = self._row(p)
         cap = self.friction_coefficient * p
         f = np.clip(tau / np.maximum(cap, 1e-300), 0.0, self._f[-1])
         j = np.clip(np.searchsorted(self._f, f, side="right") - 1, 0, self._f.size - 2)
         df = self._f[j + 1] - self._f[j]
-        u = (f - self._f[j]) / df
-        s_lo = self._s[i, j] * (1 - u) + self._s[i, j + 1] * u
-        s_hi = self._s[i + 1, j] * (1 - u) + self._s[i + 1, j + 1] * u
-        s = s_lo * (1 - w) + s_hi * w
+        return i, w, j, (f - self._f[j]) / df, df, cap
+
+    @staticmethod
+    def _bilinear(table, i, w, j, u):
+        lo = table[i, j] * (1 - u) + table[i, j + 1] * u
+        hi = table[i + 1, j] * (1 - u) + table[i + 1, j + 1] * u
+        return lo * (1 - w) + hi * w
+
+    def slip(self, tau, p):
+        """s(tau; p) (m) and ds/dtau (m/Pa) at shears ``tau`` (Pa) and pressures ``p`` (Pa), arrays of
+        one shape; piecewise linear in f = tau/(mu p) and in ln p."""
+        tau, p = np.asarray(tau, float), np.asarray(p, float)
+        i, w, j, u, df, cap = self._cell(tau, p)
+        s = self._bilinear(self._s, i, w, j, u)
         slope = ((self._s[i, j + 1] - self._s[i, j]) * (1 - w) + (self._s[i + 1, j + 1] - self._s[i + 1, j]) * w) / df
         return s, slope / np.maximum(cap, 1e-300)
 
     def stick_ratio(self, tau, p):
-        """The windows' stick fraction at shears ``tau`` and pressures ``p`` (1 at tau = 0)."""
+        """The windows' stick fraction at shears ``tau`` and pressures ``p`` (1 at tau = 0), interpolated
+        like :meth:`slip`."""
         tau, p = np.asarray(tau, float), np.asarray(p, float)
-        i, w = self._row(p)
-        st = np.concatenate([np.ones((self.pressures.size, 1)), np.asarray(self.stick_ratios, float)], axis=1)
-        f = np.clip(tau / np.maximum(self.friction_coefficient * p, 1e-300), 0.0, self._f[-1])
-        lo = np.array([np.interp(fv, self._f, st[k]) for fv, k in zip(f.ravel(), i.ravel())]).reshape(f.shape)
-        hi = np.array([np.interp(fv, self._f, st[k + 1]) for fv, k in zip(f.ravel(), i.ravel())]).reshape(f.shape)
-        return lo * (1 - w) + hi * w
+        i, w, j, u, _, _ = self._cell(tau, p)
+        return self._bilinear(self._st, i, w, j, u)
 
     def as_dict(self) -> dict:
         """The table as plain lists (SI)."""
