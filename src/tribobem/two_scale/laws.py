@@ -90,6 +90,8 @@ class NormalInterfaceLaw:
         self._lnp = np.log(self.pressures)
         self._spline = PchipInterpolator(self._lnp, self.gaps, extrapolate=True)
         self._slope = self._spline.derivative()
+        fine = np.linspace(self._lnp[0], self._lnp[-1], 4096)
+        self._inverse_lnp, self._inverse_g = fine[::-1], self._spline(fine)[::-1]  # g increasing
         # dg/dln p at the ends (the extrapolation above the table continues the last slope)
         self._end_slope = float(self._slope(self._lnp[-1]))
         self._fraction = PchipInterpolator(self._lnp, np.asarray(self.contact_fractions, float), extrapolate=True)
@@ -143,10 +145,8 @@ class NormalInterfaceLaw:
         out[low] = p1 * ((g0 - g[low]) / (g0 - g1)) ** (1.0 / HERTZ_EXPONENT)
         mid = (g <= g1) & (g >= self.gaps[-1])
         if np.any(mid):
-            # invert the monotone spline on a fine ln p grid (the table is short)
-            lnp = np.linspace(self._lnp[0], self._lnp[-1], 4096)
-            gg = self._spline(lnp)
-            out[mid] = np.exp(np.interp(g[mid], gg[::-1], lnp[::-1]))
+            # the monotone spline inverted on a fine ln p grid (the table is short), built once
+            out[mid] = np.exp(np.interp(g[mid], self._inverse_g, self._inverse_lnp))
         high = g < self.gaps[-1]
         # far below the table's last gap the extrapolated pressure overflows: cap its exponent
         out[high] = np.exp(np.minimum(self._lnp[-1] + (g[high] - self.gaps[-1]) / self._end_slope, 700.0))
