@@ -24,6 +24,7 @@ Usage::
     python -m studies.two_scale --quick                                 # 512^2, one realisation (seconds)
     python -m studies.two_scale --real                                  # the 300 um burl, window cells 10-1.25 nm
     python -m studies.two_scale --whole-slip --out results/two_scale   # whole-burl ramps (2 min per 1024^2)
+    python -m studies.two_scale --whole-loop --out results/two_scale   # whole-burl friction loops
 
 The whole-burl numbers are committed in :data:`tribobem.validation.two_scale.WHOLE_BURLS`
 (``--whole`` prints them in that form); ``tribobem validate --physics two_scale`` computes only
@@ -44,7 +45,8 @@ from tribobem.geometry.rough import gaussian_surface
 from tribobem.geometry.shapes import burl
 from tribobem.grid import Grid
 from tribobem.solvers.normal import solve_normal
-from tribobem.validation.two_scale import BURLS, PAIR, RMS, CORRELATION, two_scale_burl
+from tribobem.validation.two_scale import (BURLS, CORRELATION, LOOP_AMPLITUDE, LOOP_STEPS, PAIR, RMS,
+                                          two_scale_burl)
 
 #: Seeds of the whole-burl roughness realisations (the windows use 0, 1, 2, ...).
 WHOLE_SEEDS = (100, 101, 102, 103)
@@ -52,6 +54,7 @@ WHOLE_SEEDS = (100, 101, 102, 103)
 #: The real-size burl's scenario (300 um top, 0.3 N) and the window cells of its study.
 REAL_SCENARIO = Path(__file__).resolve().parents[1] / "examples" / "studies" / "two_scale_real_burl.toml"
 REAL_WINDOW_CELLS = (100, 200, 400, 800)
+
 
 _REAL_CHILD = """
 import json, resource, sys, time, tomllib, warnings
@@ -101,6 +104,17 @@ def whole_burl(name: str, seed: int, n: int | None = None) -> dict:
             "max_pressure": res.max_pressure, "converged": bool(res.converged), "cpu_s": time.process_time() - t}
 
 
+def _small_burl_scenario(kind: str, n: int, seed: int, friction: dict) -> dict:
+    """The whole small burl as a scenario of ``kind`` on ``n``^2 cells, roughness seed ``seed``."""
+    b = BURLS["small"]
+    return {"kind": kind, "grid": {"n": n, "size": b["size"]},
+            "body1": {"E": PAIR.body1.E, "nu": PAIR.body1.nu,
+                      "roughness": {"kind": "gaussian", "rms": RMS, "correlation_length": CORRELATION, "seed": seed}},
+            "body2": {"E": PAIR.body2.E, "nu": PAIR.body2.nu,
+                      "shape": {"kind": "burl", "radius": b["radius"], "edge_radius": b["edge_radius"]}},
+            "load": {"force": b["force"]}, "friction": friction}
+
+
 def whole_burl_slip(n: int, seed: int) -> dict:
     """The whole small burl's partial-slip ramp (``tangential_forces = "auto"``, mu = 0.2, the coupled
     dissimilar pair) on ``n``^2 cells, roughness seed ``seed``: static friction and the tangential
@@ -108,13 +122,7 @@ def whole_burl_slip(n: int, seed: int) -> dict:
     from tribobem.scenario import parse_scenario, run_scenario
     from tribobem.validation.two_scale import MU
 
-    b = BURLS["small"]
-    sc = {"kind": "partial_slip", "grid": {"n": n, "size": b["size"]},
-          "body1": {"E": PAIR.body1.E, "nu": PAIR.body1.nu,
-                    "roughness": {"kind": "gaussian", "rms": RMS, "correlation_length": CORRELATION, "seed": seed}},
-          "body2": {"E": PAIR.body2.E, "nu": PAIR.body2.nu,
-                    "shape": {"kind": "burl", "radius": b["radius"], "edge_radius": b["edge_radius"]}},
-          "load": {"force": b["force"]}, "friction": {"coefficient": MU, "tangential_forces": "auto"}}
+    sc = _small_burl_scenario("partial_slip", n, seed, {"coefficient": MU, "tangential_forces": "auto"})
     t = time.process_time()
     s = run_scenario(parse_scenario(sc), outdir=None, progress=False, warn=False).summary
     fx = [r["tangential_force_x"] for r in s["steps"]]
@@ -127,6 +135,26 @@ def whole_burl_slip(n: int, seed: int) -> dict:
             "presliding_displacement": s["presliding_displacement"], "cpu_s": time.process_time() - t}
 
 
+def whole_burl_loop(n: int, seed: int, amplitude: float = LOOP_AMPLITUDE, steps: int = LOOP_STEPS) -> dict:
+    """The whole small burl's friction loop (``kind = "hysteresis"``, force path 0 -> +F* -> -F* ->
+    +F* with F* = ``amplitude`` mu F0+, one cycle, mu = 0.2, the coupled dissimilar pair) on ``n``^2
+    cells, roughness seed ``seed``: the loop energy, K_L at A, B, C and the loop itself."""
+    from tribobem.scenario import parse_scenario, run_scenario
+    from tribobem.validation.two_scale import MU
+
+    sc = _small_burl_scenario("hysteresis", n, seed, {"coefficient": MU, "path": {
+        "control": "force", "amplitude": amplitude, "cycles": 1, "steps": steps}})
+    t = time.process_time()
+    s = run_scenario(parse_scenario(sc), outdir=None, progress=False, warn=False).summary
+    return {"n": n, "seed": seed, "amplitude": amplitude, "steps": steps, "converged": s["converged"],
+            "peak_force": s["peak_force"], "dissipated_energy": s["dissipated_energy"][0],
+            "lateral_stiffness": {r["point"]: r["stiffness"] for r in s["lateral_stiffness"]},
+            "loop": {"force": [r["tangential_force_x"] for r in s["steps"]],
+                     "displacement": [r["displacement_x"] for r in s["steps"]],
+                     "branch": [r["branch"] for r in s["steps"]]},
+            "cpu_s": time.process_time() - t}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--whole", action="store_true", help="compute the whole-burl references")
@@ -134,6 +162,7 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true", help="512^2 and one realisation")
     ap.add_argument("--real", action="store_true", help="the 300 um burl at four window resolutions")
     ap.add_argument("--whole-slip", action="store_true", help="whole-burl partial-slip ramps (512^2 and 1024^2)")
+    ap.add_argument("--whole-loop", action="store_true", help="whole-burl friction loops (512^2 and 1024^2)")
     ap.add_argument("--out", default="results/two_scale", help="folder for the JSON records")
     args = ap.parse_args(argv)
     out = Path(args.out)
@@ -148,6 +177,13 @@ def main(argv=None) -> int:
         for r in rows:
             print(json.dumps(r), flush=True)
         (out / "whole_slip.json").write_text(json.dumps(rows, indent=1))
+    if args.whole_loop:
+        rows = []
+        for n, seed in ((512, 100), (1024, 100), (1024, 101)):
+            r = whole_burl_loop(n, seed)
+            rows.append(r)
+            print(json.dumps(r), flush=True)
+        (out / "whole_loop.json").write_text(json.dumps(rows, indent=1))
     if args.real:
         rows = []
         for n in REAL_WINDOW_CELLS:

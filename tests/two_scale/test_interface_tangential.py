@@ -111,3 +111,47 @@ def test_the_state_satisfies_its_discrete_problem_with_sliding_cells():
     assert np.all(res.displacement - u[sliding] >= res.slip[sliding] - 1e-8 * scale)
     with pytest.raises(InputError, match="force"):
         solve_interface_tangential(op, normal.pressure, law, 1.01 * MU * normal.force)
+
+
+def rough_slip_law(mu=MU):
+    """A nonlinear slip law (Cattaneo-like, s ~ 1 - (1 - f)^(2/3)) whose slope grows with f."""
+    ps = np.geomspace(1e5, 1e10, 12)
+    f = np.asarray(SLIP_FRACTIONS)
+    slips = np.array([1e-9 * (p / 1e8) ** 0.3 * (1 - (1 - f) ** (2 / 3)) for p in ps])
+    stick = np.tile((1 - f) ** (2 / 3), (ps.size, 1))
+    return TangentialInterfaceLaw(ps, f, slips, stick, mu, np.zeros_like(slips))
+
+
+def test_a_masing_loop_is_its_virgin_curve_scaled_by_two_and_balances_its_energy():
+    from tribobem.solvers.hysteresis import cycle_path
+    from tribobem.two_scale.tangential import interface_loop
+
+    pair = ContactPair(Material(130e9, 0.28), Material(410e9, 0.14))
+    grid = Grid(48, 48, 8e-6, 8e-6)
+    op = free_boundary_operator(grid, pair, components=("x", "y", "z"))
+    x = (np.arange(48) + 0.5) * grid.dx - 4e-6
+    r2 = x[:, None] ** 2 + x[None, :] ** 2
+    p = np.where(r2 < (3e-6) ** 2, 5e7 * np.sqrt(np.clip(1 - r2 / 9e-12, 0, None)) + 1e6, 0.0)
+    law = rough_slip_law()
+    F_static = MU * p.sum() * grid.dx * grid.dy
+    path = cycle_path(0.8 * F_static, 2, 16, "force")
+    loop = interface_loop(op, p, law, path.values, path.turning, path.cycle, tol=1e-9)
+    assert all(s.converged for s in loop.states)
+    top = next(i for i, t in enumerate(path.turning) if t)
+    Fs, ds = loop.forces[top], loop.displacements[top]
+    # Masing at macro scale (no cell reaches its bound on this path): delta(F) = delta* - 2 delta_v((F* - F)/2)
+    for k in range(top + 1, top + 9):
+        virgin = solve_interface_tangential(op, p, law, (Fs - loop.forces[k]) / 2, tol=1e-9)
+        assert loop.displacements[k] == pytest.approx(ds - 2 * virgin.displacement, rel=1e-6, abs=1e-7 * abs(ds))
+    # the second cycle repeats the first (Masing loops close), and the interface's work is the loop area
+    c1 = np.flatnonzero(path.cycle == 1)
+    c2 = np.flatnonzero(path.cycle == 2)
+    np.testing.assert_allclose(loop.displacements[c2], loop.displacements[c1], rtol=1e-6, atol=1e-7 * abs(ds))
+    from tribobem.solvers.hysteresis import loop_energies
+
+    F = np.concatenate([[0.0], loop.forces])
+    D = np.concatenate([[0.0], loop.displacements])
+    C = np.concatenate([[0], path.cycle])
+    energies = loop_energies(F, D, C)
+    assert energies[0] > 0
+    np.testing.assert_allclose(loop.dissipation, energies, rtol=1e-6)

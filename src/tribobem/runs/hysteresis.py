@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis.loops import STIFFNESS_POINTS, fit_eq3
+from ..analysis.loops import STIFFNESS_POINTS
 from ..analytic.tangential_axisymmetric import lateral_reference, reference_geometry
 from ..analytic.mindlin import mindlin_compliance_k
 from ..analytic.tangential_axisymmetric import sphere_partial_slip
@@ -31,93 +31,11 @@ from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, f
                    require_elastic_body, require_friction, require_humidity)
 from .kind import TANGENTIAL_COLUMNS
 from .settings import SolverSettings
+from .loop_stiffness import _along, lateral_stiffness_fit, stiffness_table
+from .two_scale import check_two_scale_tangential, run_hysteresis as run_two_scale
 
 __all__ = ["run", "check", "KIND", "lateral_stiffness_fit", "STIFFNESS_POINTS"]
 
-
-
-def lateral_stiffness_fit(forces, displacements):
-    """Fit F = c1 (1 - (1 - c2 d)^n) (Paper F Eq. 3) to a branch measured from its turning point.
-
-    The fit itself is :func:`tribobem.analysis.loops.fit_eq3` (bounded least squares from a grid of starts,
-    so a branch cut before its plateau does not stop in a local minimum); measured loops
-    (``tribobem compare-loop``) are fitted by the same function.
-
-    Parameters
-    ----------
-    forces, displacements : array_like
-        F - F_turn (N) and delta - delta_turn (m) along the branch (both increasing from 0).
-
-    Returns
-    -------
-    (c1, c2, n) and a callable K(d) = c1 c2 n (1 - c2 d)^(n - 1) (N/m).
-    """
-    F = np.asarray(forces, float)
-    d = np.asarray(displacements, float)
-    if len(F) < 4:
-        raise InputError("lateral_stiffness", f"need at least 4 points on the branch to fit, got {len(F)}")
-    (c1, c2, n), _ = fit_eq3(d, F)
-
-    def K(x):
-        return c1 * c2 * n * np.clip(1.0 - c2 * np.asarray(x, float), 1e-12, None) ** (n - 1.0)
-
-    return (c1, c2, n), K
-
-
-def _along(row, e) -> tuple[float, float]:
-    """(F_t, delta_t) of a step: its tangential force and displacement along the load direction e
-    (x for direction 0)."""
-    return (row["tangential_force_x"] * e[0] + row["tangential_force_y"] * e[1],
-            row["displacement_x"] * e[0] + row["displacement_y"] * e[1])
-
-
-def _stiffness_table(rows, run, mu, f0p, reference, e=(1.0, 0.0)):
-    """K_L at A, B, C on the last branch from -F* to +F* (fit from its turning point), along the
-    load direction ``e``, beside the slopes of ``reference`` (an
-    :class:`~tribobem.analytic.tangential_axisymmetric.AxisymmetricPartialSlip` or None)."""
-    idx = [i for i, r in enumerate(rows) if r.get("branch") == "reloading"]
-    if not idx:
-        return [], {}
-    last_cycle = max(rows[i]["cycle"] for i in idx)
-    br = [i for i in idx if rows[i]["cycle"] == last_cycle]
-    turn = br[0] - 1  # the turning point -F* (last step of the unloading branch)
-    # Paper F fits the pre-sliding part of the branch: stop at the first step in gross slip.
-    pre = []
-    for i in br:
-        pre.append(i)
-        if rows[i].get("gross_slip"):
-            break
-    br = pre
-    F0, d0 = _along(rows[turn], e)
-    F = np.array([_along(rows[i], e)[0] for i in br]) - F0
-    D = np.array([_along(rows[i], e)[1] for i in br]) - d0
-    F = np.concatenate([[0.0], F])
-    D = np.concatenate([[0.0], D])
-    (c1, c2, n), K = lateral_stiffness_fit(F, D)
-
-    Fstar = -F0
-    table = []
-    for name, ratio in STIFFNESS_POINTS.items():
-        Ft = ratio * mu * f0p
-        if not (-Fstar <= Ft <= Fstar):
-            continue
-        dd = float(np.interp(Ft - F0, F, D))
-        k_fit = float(K(dd))
-        row = {"point": name, "force_ratio": ratio, "tangential_force": Ft, "displacement": dd + d0,
-               "stiffness": k_fit}
-        if reference is not None:
-            # The exact branch of the geometry's reference through the same turning point, with F0+
-            # for P, and its virgin-curve slope at the same |force| (for a sphere: Paper F Eq. 6).
-            try:
-                k_md = float(reference.reloading_stiffness(Ft, Fstar))
-                k_virgin = float(reference.virgin_stiffness(abs(Ft)))
-            except InputError:  # e.g. F* beyond mu F0+ (F0+ fell along the path)
-                k_md = k_virgin = float("nan")
-            row.update(reference_stiffness=k_md, reference_virgin_stiffness=k_virgin)
-            if reference.name == "Mindlin-Deresiewicz":  # the file-contract keys of the sphere's reference
-                row.update(mindlin_stiffness=k_md, virgin_stiffness=k_virgin)
-        table.append(row)
-    return table, {"c1": c1, "c2": c2, "n": n}
 
 
 @scenario_errors  # the solvers' error keys -> scenario keys (runs.common.SCENARIO_KEYS)
@@ -147,6 +65,8 @@ def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
     """
     if settings is None:
         settings = SolverSettings.from_scenario(pb.scenario)
+    if pb.two_scale is not None:  # [two_scale]: micro windows, then the macro loop (Masing's rule)
+        return run_two_scale(pb, bar, settings)
     if pb.humidity is not None:
         return run_per_rh(pb, bar, _run_one, "hysteresis", settings)
     return _run_one(pb, bar, pb.interaction, None, "", settings)[0]
@@ -239,7 +159,7 @@ def _run_one(pb, bar, interaction, initial, label: str, settings: SolverSettings
     if reference is None:
         run_level["lateral_stiffness_reference_note"] = ref_note
     try:
-        table, fit = _stiffness_table(rows, res, mu, f0p, reference, e)
+        table, fit = stiffness_table(rows, mu, f0p, reference, e)
         run_level["lateral_stiffness"] = table
         run_level["lateral_stiffness_fit"] = fit
     except (InputError, RuntimeError, ValueError) as exc:
@@ -303,6 +223,11 @@ def check(sc) -> None:
         fail("load.force", "required for kind = 'hysteresis': the normal force held during the "
                            "tangential cycles (> 0 N without adhesion)")
     positive_normal_load(sc)
+    if sc.two_scale is not None:
+        # what the two-scale loop supports: a force path along x, dry, non-adhesive
+        if fr.path.control != "force":
+            fail("friction.path.control", "a two-scale loop is force-controlled (control = 'force')")
+        check_two_scale_tangential(sc, "loop")
 
 
 _ONE_FORCE = "kind = 'hysteresis' takes one normal force, load.force (held during the tangential cycles)"
@@ -311,12 +236,14 @@ _PATH = "its tangential loading is friction.path"
 KIND = RunKind(
     name="hysteresis", run=run, check=check,
     summary="friction hysteresis: tangential force or displacement cycles at one normal force",
-    figures=("hysteresis", "friction", "humid_friction", "maps"), report_sections=("humid_friction", "hysteresis"),
+    figures=("hysteresis", "friction", "humid_friction", "two_scale", "maps"),
+    report_sections=("humid_friction", "hysteresis"),
     columns=TANGENTIAL_COLUMNS, humid_columns=("rh",) + TANGENTIAL_COLUMNS,
     results={"static_friction_force": "force", "static_friction_ratio": "dimensionless",
              "presliding_displacement": "length", **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
     uses={"load": ("force",), "friction": ("coefficient", "direction", "slip", "path"),
-          "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker"), "solver": ("method",)},
+          "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker"), "solver": ("method",),
+          "two_scale": ALL},
     hints={"load.forces": _ONE_FORCE, "load.approach": _ONE_FORCE, "load.approaches": _ONE_FORCE,
            "friction.tangential_forces": _PATH, "friction.tangential_displacements": _PATH},
 )

@@ -29,7 +29,7 @@ from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, f
                    require_elastic_body, require_friction, require_humidity)
 from .kind import TANGENTIAL_COLUMNS
 from .settings import SolverSettings
-from .two_scale import run_partial_slip as run_two_scale
+from .two_scale import check_two_scale_tangential, run_partial_slip as run_two_scale
 
 __all__ = ["run", "check", "KIND"]
 
@@ -240,15 +240,9 @@ def check(sc) -> None:
         if fr.tangential_displacements is not None:
             fail("friction.tangential_displacements", "a two-scale ramp is force-controlled: give "
                  "friction.tangential_forces (or \"auto\")")
-        if fr.direction != 0.0:
-            fail("friction.direction", "a two-scale ramp runs along x (direction 0)")
         if "slip" in fr.model_fields_set and fr.slip != "total":
             fail("friction.slip", "a two-scale ramp is monotonic from the undeformed state: slip = 'total'")
-        if sc.humidity is not None:
-            fail("humidity", "capillary interface laws are not available for two-scale runs yet: run the whole grid")
-        if sc.adhesion.model != "none":
-            fail("adhesion.model", "a two-scale run takes a non-adhesive interface; adhesive interface laws are not "
-                                   "available yet: run the whole grid")
+        check_two_scale_tangential(sc, "ramp")
 
 
 _APPROACH = ("approach-controlled normal loads are not supported for kind = 'partial_slip'; give "

@@ -1,7 +1,8 @@
 """The two-scale path of a run kind (``[two_scale]``): micro windows, then the macro solve.
 
-Not a kind of its own: the kinds that accept ``[two_scale]`` (``normal``) call
-:func:`run_normal` when the built problem carries micro windows (``pb.two_scale``).
+Not a kind of its own: the kinds that accept ``[two_scale]`` call :func:`run_normal`,
+:func:`run_partial_slip` or :func:`run_hysteresis` when the built problem carries micro windows
+(``pb.two_scale``).
 
 1. The pressure range of the table: the smooth macro contact (the shapes without the
    roughness, hard contact) is solved at the largest load; the table runs from 1e-3 of its mean
@@ -32,12 +33,12 @@ from ..results import NormalResult, TangentialResult
 from ..solvers.normal import solve_normal
 from ..two_scale.macro import pressure_length, solve_interface_normal
 from ..two_scale.micro import interface_law
-from ..two_scale.tangential import interface_slip_law, solve_interface_tangential
+from ..two_scale.tangential import interface_loop, interface_slip_law, solve_interface_tangential
 from .common import step_row
 from .kind import RunOutput
 from .settings import SolverSettings
 
-__all__ = ["run_normal", "run_partial_slip", "table_pressures", "AUTO_FRACTIONS"]
+__all__ = ["check_two_scale_tangential", "run_normal", "run_partial_slip", "run_hysteresis", "table_pressures", "AUTO_FRACTIONS"]
 
 #: ``tangential_forces = "auto"`` of a two-scale partial_slip run: these fractions of the static
 #: friction mu F (every window slides at its own mu p, so the burl at mu F).
@@ -52,6 +53,21 @@ MIN_PATCH_CELLS = 3.0
 LOW_FRACTION = 1e-3
 #: ... to this multiple of its largest pressure.
 HIGH_FACTOR = 2.0
+
+
+def check_two_scale_tangential(sc, what: str) -> None:
+    """What a two-scale tangential run supports: along x, dry, non-adhesive (``what``: "ramp" or
+    "loop", for the messages)."""
+    from .kind import fail
+
+    fr = sc.friction
+    if fr.direction != 0.0:
+        fail("friction.direction", f"a two-scale {what} runs along x (direction 0)")
+    if sc.humidity is not None:
+        fail("humidity", "capillary interface laws are not available for two-scale runs yet: run the whole grid")
+    if sc.adhesion.model != "none":
+        fail("adhesion.model", "a two-scale run takes a non-adhesive interface; adhesive interface laws are not "
+                               "available yet: run the whole grid")
 
 
 def table_pressures(pb, settings: SolverSettings, force: float) -> tuple[np.ndarray, dict]:
@@ -183,6 +199,32 @@ def _normal_state(pb, settings, force):
     return law, res, range_info
 
 
+def _tangential_setup(pb, bar, settings):
+    """The macro normal state and the windows' slip law of a two-scale tangential run."""
+    sc = pb.scenario
+    ts = sc.two_scale
+    mu = float(sc.friction.coefficient)
+    bar.phase("micro windows (normal)", 1)
+    law, res, range_info = _normal_state(pb, settings, float(sc.load.force))
+    bar(1, 1)
+    slip_p = np.geomspace(law.pressures[0] * 10.0, law.pressures[-1], SLIP_PRESSURES)
+    bar.phase("micro windows (tangential)", 1)
+    try:
+        slip_law = interface_slip_law(pb.two_scale, slip_p, mu, tol=max(settings.tolerance, 1e-8),
+                                      max_iterations=settings.max_iterations, scheduler=ts.scheduler, cache=ts.cache)
+    except ValueError as exc:
+        raise InputError("two_scale", f"the windows' slip table cannot be built: {exc}") from None
+    bar(1, 1)
+    return law, res, range_info, slip_law
+
+
+def _slip_messages(slip_law) -> list:
+    if slip_law.info.get("not_converged"):
+        return [f"two_scale: {slip_law.info['not_converged']} of {slip_law.info['solves']} micro tangential "
+                "solves did not converge"]
+    return []
+
+
 def _tangential_result(pb, res, slip_state, mu: float, slip_law) -> TangentialResult:
     """A macro slip state as a TangentialResult for fields.nc (shear and slip along x); a cell
     sticks where most of its window's real contact sticks (the window's stick fraction >= 0.5)."""
@@ -225,20 +267,9 @@ def run_partial_slip(pb, bar, settings: SolverSettings) -> RunOutput:
         ``displacement_at_0p9_static_friction``).
     """
     sc = pb.scenario
-    ts, fr = sc.two_scale, sc.friction
+    fr = sc.friction
     mu = float(fr.coefficient)
-    force = float(sc.load.force)
-    bar.phase("micro windows (normal)", 1)
-    law, res, range_info = _normal_state(pb, settings, force)
-    bar(1, 1)
-    slip_p = np.geomspace(law.pressures[0] * 10.0, law.pressures[-1], SLIP_PRESSURES)
-    bar.phase("micro windows (tangential)", 1)
-    try:
-        slip_law = interface_slip_law(pb.two_scale, slip_p, mu, tol=max(settings.tolerance, 1e-8),
-                                      max_iterations=settings.max_iterations, scheduler=ts.scheduler, cache=ts.cache)
-    except ValueError as exc:
-        raise InputError("two_scale", f"the windows' slip table cannot be built: {exc}") from None
-    bar(1, 1)
+    law, res, range_info, slip_law = _tangential_setup(pb, bar, settings)
     static = mu * res.force
     if fr.tangential_forces == "auto" or fr.tangential_forces is None:
         forces = [f * static for f in AUTO_FRACTIONS]
@@ -291,9 +322,86 @@ def run_partial_slip(pb, bar, settings: SolverSettings) -> RunOutput:
         messages.append(f"two_scale: {len(forces) - len(solvable)} tangential force(s) at or above "
                         f"{slip_law.max_fraction:g} mu F = {limit:.4g} N were not solved: the burl slides as a whole at "
                         f"mu F = {static:.4g} N (every window at its own mu p)")
-    if slip_law.info.get("not_converged"):
-        messages.append(f"two_scale: {slip_law.info['not_converged']} of {slip_law.info['solves']} micro tangential "
-                        "solves did not converge")
+    messages += _slip_messages(slip_law)
     labels = [f"ramp {k}" for k in range(len(rows))]
     return RunOutput(rows=rows, results=results, tangential=tangential, labels=labels,
                      indices=list(range(len(rows))), run=run, warnings=messages)
+
+
+def run_hysteresis(pb, bar, settings: SolverSettings) -> RunOutput:
+    """Kind ``hysteresis`` with ``[two_scale]``: a force-controlled friction loop at ``load.force``.
+
+    The macro normal state and the slip law as :func:`run_partial_slip`; the path of
+    ``friction.path`` (F* = amplitude mu F, the static friction of the two-scale burl) by
+    :func:`tribobem.two_scale.tangential.interface_loop` (Masing's rule in every macro cell).
+    Run level: the keys of a whole-grid loop (``dissipated_energy``, ``dissipation_work``,
+    ``lateral_stiffness`` at A, B, C and its fit, ``peak_force``, ``static_friction_force``).
+
+    Parameters
+    ----------
+    pb : Problem
+        The built two-scale problem (operator with the x, y, z components).
+    bar : progress handler
+    settings : SolverSettings
+
+    Returns
+    -------
+    RunOutput
+    """
+    from ..solvers.hysteresis import cycle_path, loop_energies
+    from .loop_stiffness import stiffness_table
+
+    sc = pb.scenario
+    fr = sc.friction
+    path_spec = fr.path
+    mu = float(fr.coefficient)
+    law, res, range_info, slip_law = _tangential_setup(pb, bar, settings)
+    static = mu * res.force
+    amplitude = float(path_spec.amplitude if path_spec.amplitude is not None else 0.999)
+    if amplitude >= slip_law.max_fraction:
+        raise InputError("friction.path.amplitude", f"a two-scale loop needs F* below the slip table's largest "
+                         f"fraction of mu F ({slip_law.max_fraction:g}); got {amplitude:g}")
+    path = cycle_path(amplitude * static, int(path_spec.cycles), int(path_spec.steps), "force")
+    real_fraction = law.contact_fraction(res.pressure)
+    bar.phase("macro hysteresis steps", len(path.values))
+    loop = interface_loop(pb.operator, res.pressure, slip_law, path.values, path.turning, path.cycle,
+                          real_fraction=real_fraction, tol=max(settings.tolerance, 1e-9), progress=bar)
+    state = _macro_result(pb, res)
+    rows, results, tangential = [], [], []
+    start = solve_interface_tangential(pb.operator, res.pressure, slip_law, 0.0)
+    for st, cycle, branch in [(start, 0, "start")] + list(zip(loop.states, path.cycle, path.branch)):
+        t = _tangential_result(pb, res, st, mu, slip_law)
+        row = _row(pb, state, res)
+        row.update(t.scalars())
+        row.update(stick_ratio=st.stick_ratio, stick_area=st.stick_ratio * res.real_contact_area,
+                   slip_area=(1.0 - st.stick_ratio) * res.real_contact_area, cycle=int(cycle), branch=branch,
+                   force_ratio=st.force / static if static > 0 else float("nan"),
+                   converged=bool(res.converged and st.converged))
+        rows.append(row)
+        results.append(state)
+        tangential.append(t)
+    F = [r["tangential_force_x"] for r in rows]
+    D = [r["displacement_x"] for r in rows]
+    C = [r["cycle"] for r in rows]
+    run = {"friction_coefficient": mu, "control": "force", "repulsive_force": res.force, "adhesive_force": 0.0,
+           "peak_force": amplitude * static, "dissipated_energy": loop_energies(F, D, C),
+           "dissipation_work": loop.dissipation, "failed_steps": [i for i, r in enumerate(rows) if not r["converged"]],
+           "static_friction_force": static, "static_friction_ratio": 1.0,
+           "lateral_stiffness_reference": None,
+           "lateral_stiffness_reference_note": "no analytic reference for a rough two-scale burl",
+           "two_scale": {**range_info, "law": law.as_dict(), "slip_law": slip_law.as_dict(),
+                         "unloading_rule": "Masing"}}
+    try:
+        table, fit = stiffness_table(rows, mu, res.force, None)
+        run["lateral_stiffness"], run["lateral_stiffness_fit"] = table, fit
+    except (InputError, RuntimeError, ValueError) as exc:
+        run["lateral_stiffness"], run["lateral_stiffness_error"] = [], str(exc)
+    # fields: the start and each turning point with the step after (as a whole-grid loop)
+    keep = [0]
+    for i, turn in enumerate(path.turning):
+        if turn:
+            keep += [i + 1, i + 2] if i + 2 < len(rows) else [i + 1]
+    keep = sorted(set(k for k in keep if k < len(rows)))
+    labels = [f"{rows[i]['branch']} {rows[i]['cycle']} step {i}" for i in keep]
+    return RunOutput(rows=rows, results=[results[i] for i in keep], tangential=[tangential[i] for i in keep],
+                     labels=labels, indices=keep, run=run, warnings=_slip_messages(slip_law))

@@ -19,8 +19,20 @@ s increases with tau, so the problem is the stationarity of a convex functional.
 friction of the burl is sum(mu p) dA = mu F (every cell at its window's gross slip); a
 tangential force above it has no solution.
 
-This is loading from the undeformed state at constant normal load (a monotonic ramp): the
-unloading and reloading branches (Masing's rule s* - 2 s((tau* - tau)/2)) are not built yet.
+Unloading and reloading (:func:`interface_loop`) follow Masing's rule in every macro cell: from
+a turning point (tau_r, s_r) a branch going in the direction sgn (+1 up, -1 down) is
+
+    s(tau) = s_r + sgn 2 s0(tau'),   tau' = sgn (tau - tau_r) / 2 >= 0,
+
+with s0 the virgin slip law at the cell's pressure (the window's own branch, exact for an
+uncoupled elastic contact at constant normal load; :func:`window_loop_check` measures it against
+the coupled window).  Substituted into the macro equation, tau' solves the virgin problem at the
+force F' = sgn (F - F_r)/2 and displacement delta' = sgn (delta - delta_r)/2, with each cell's
+shear bounded by (f_max mu p - sgn tau_r)/2 (the cell slides backwards at -f_max mu p), where
+s_r = delta_r - (G tau_r) is the cell's whole slip at the turn, gross sliding included.  So
+every branch is a :func:`solve_interface_tangential` solve with per-cell limits.  The rule keeps
+no older turning points (Masing without Madelung's memory): on the symmetric cycles of the
+hysteresis kind a branch never passes the turn before it.
 """
 
 from __future__ import annotations
@@ -38,7 +50,7 @@ from ..solvers.tangential import GrossSlipError, solve_tangential
 from .macro import _cg, _self_compliance
 
 __all__ = ["SLIP_FRACTIONS", "TangentialInterfaceLaw", "window_slip_table", "interface_slip_law",
-           "InterfaceSlipResult", "solve_interface_tangential"]
+           "InterfaceSlipResult", "solve_interface_tangential", "interface_loop", "window_loop_check"]
 
 #: The shear fractions f = tau / (mu p) of the micro slip tables (the window slides at f = 1).
 SLIP_FRACTIONS = (0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 0.98, 0.995)
@@ -288,7 +300,7 @@ def _tangential_block(operator):
 
 
 def solve_interface_tangential(operator, pressure, law: TangentialInterfaceLaw, force: float, *, real_fraction=None,
-                               initial_shear=None, tol: float = 1e-9, max_newton: int = 100,
+                               initial_shear=None, limit=None, tol: float = 1e-9, max_newton: int = 100,
                                cg_tol: float = 1e-10, max_cg: int = 2000) -> InterfaceSlipResult:
     """The macro partial-slip state at a tangential force (module docstring).
 
@@ -306,6 +318,9 @@ def solve_interface_tangential(operator, pressure, law: TangentialInterfaceLaw, 
         The cells' real contact fraction (weights of the stick ratio); default uniform.
     initial_shear : ndarray, optional
         A start (the previous step of a ramp).
+    limit : ndarray, optional
+        Each cell's largest shear (Pa), where its window slides; default the table's largest
+        fraction times mu p (a Masing branch passes its own, :func:`interface_loop`).
     tol : float
         Convergence: max |G tau + s - delta| over the loaded cells, relative to max |G tau| + max s.
 
@@ -325,6 +340,9 @@ def solve_interface_tangential(operator, pressure, law: TangentialInterfaceLaw, 
     loaded = p > 0
     cap = law.friction_coefficient * np.where(loaded, p, 0.0)
     top = law.max_fraction * cap
+    if limit is not None:
+        top = np.where(loaded, np.clip(np.asarray(limit, float), 0.0, top), 0.0)
+        loaded = loaded & (top > 0)
     if not 0 <= force < float(top.sum()) * dA:
         raise InputError("force", f"must lie in [0, {float(top.sum()) * dA:.6g}) N (the table's largest fraction "
                          f"{law.max_fraction:g} of the static friction mu F = {float(cap.sum()) * dA:.6g} N), got {force!r}")
@@ -391,3 +409,151 @@ def solve_interface_tangential(operator, pressure, law: TangentialInterfaceLaw, 
     return InterfaceSlipResult(shear=tau, slip=s, displacement=disp, force=float(tau.sum() * dA), stick_ratio=ratio,
                                newton_iterations=it, cg_iterations=total_cg, residual=residual, converged=converged,
                                time=time.perf_counter() - t0)
+
+
+@dataclass
+class InterfaceLoop:
+    """The macro states along a cyclic tangential force path (:func:`interface_loop`).
+
+    Attributes
+    ----------
+    states : list of InterfaceSlipResult
+        One per path value, in physical variables (shear, whole slip delta - G tau, delta).
+    forces, displacements : ndarray
+        F_x (N) and delta (m) per state.
+    dissipation : list of float
+        Per full cycle: the interface's frictional work, sum over the cells of the closed
+        integral of tau ds (J), trapezoid rule over the steps (the loop area by energy balance).
+    """
+
+    states: list
+    forces: np.ndarray
+    displacements: np.ndarray
+    dissipation: list
+
+
+def interface_loop(operator, pressure, law: TangentialInterfaceLaw, values, turning, cycles, *, real_fraction=None,
+                   tol: float = 1e-9, progress=None) -> InterfaceLoop:
+    """The macro friction loop along a force path, Masing's rule in every cell (module docstring).
+
+    Parameters
+    ----------
+    operator : ConvolutionOperator
+        The macro operator with components ("x", "y", "z").
+    pressure : ndarray
+        Nominal pressure of the macro cells (Pa), held along the path.
+    law : TangentialInterfaceLaw
+        The virgin slip law of the windows.
+    values, turning, cycles : array_like
+        The path's tangential forces F_x (N), its turning flags and cycle numbers
+        (:func:`tribobem.solvers.hysteresis.cycle_path`).
+    real_fraction : ndarray, optional
+        The cells' real contact fraction (weights of the stick ratio).
+    tol : float
+        Each solve's tolerance.
+    progress : callable, optional
+        ``progress(done, total)``.
+
+    Returns
+    -------
+    InterfaceLoop
+
+    Raises
+    ------
+    InputError
+        ``force``: a value at or beyond the table's largest fraction of mu F.
+    """
+    op, sign, _ = _tangential_block(operator)
+    p = np.asarray(pressure, float)
+    loaded = p > 0
+    dA = op.grid.dx * op.grid.dy
+    top = law.max_fraction * law.friction_coefficient * np.where(loaded, p, 0.0)
+    values = np.asarray(values, float)
+    # the turn a branch starts from: force, shear, displacement, direction, factor (1: virgin)
+    F_r, tau_r, d_r, sgn, c = 0.0, np.zeros_like(p), 0.0, 1.0, 1.0
+    states, prev = [], None
+    for k, F in enumerate(values):
+        Fp = sgn * (F - F_r) / c
+        r = solve_interface_tangential(operator, p, law, max(Fp, 0.0), real_fraction=real_fraction,
+                                       initial_shear=prev, limit=(top - sgn * tau_r) / c, tol=tol)
+        prev = r.shear if Fp > 0 else None
+        tau = tau_r + sgn * c * r.shear
+        delta = d_r + sgn * c * r.displacement
+        slip = np.where(loaded, delta - sign * op.apply(tau), 0.0)
+        states.append(InterfaceSlipResult(shear=tau, slip=slip, displacement=float(delta), force=float(tau.sum() * dA),
+                                          stick_ratio=r.stick_ratio, newton_iterations=r.newton_iterations,
+                                          cg_iterations=r.cg_iterations, residual=r.residual, converged=r.converged,
+                                          time=r.time))
+        if turning[k]:
+            F_r, tau_r, d_r, sgn, c, prev = float(F), tau, float(delta), -sgn, 2.0, None
+        if progress is not None:
+            progress(k + 1, len(values))
+    cyc = np.asarray(cycles, int)
+    dissipation = []
+    for cycle in range(1, int(cyc.max()) + 1 if cyc.size else 1):
+        idx = np.flatnonzero(cyc == cycle)
+        if idx.size == 0:
+            continue
+        seq = [int(idx[0]) - 1] + idx.tolist()  # from the end of the cycle before
+        w = 0.0
+        for a, b in zip(seq[:-1], seq[1:]):
+            sa, sb = states[a], states[b]
+            w += float(np.sum(0.5 * (sa.shear + sb.shear) * (sb.slip - sa.slip))) * dA
+        dissipation.append(abs(w))
+    return InterfaceLoop(states=states, forces=np.array([s.force for s in states]),
+                         displacements=np.array([s.displacement for s in states]), dissipation=dissipation)
+
+
+def window_loop_check(grid, pair, gap, pressure: float, friction_coefficient: float, *, amplitude: float = 0.8,
+                      steps: int = 24, interaction=None, tol: float = 1e-8) -> dict:
+    """How well Masing's rule holds for one window: its own coupled friction loop against the
+    loop Masing's rule builds from its virgin branch.
+
+    The window (periodic, the materials' normal-tangential coupling included) is pressed at the
+    nominal ``pressure`` and taken round 0 -> +F* -> -F* -> +F* (F* = ``amplitude`` mu F+, one
+    cycle) by the hysteresis solver (:func:`tribobem.solvers.hysteresis.hysteresis_loop`).  Masing's
+    loop from the same run's virgin branch s0: delta = delta* - 2 s0((F* - F)/2) going down,
+    -delta* + 2 s0((F + F*)/2) going up.
+
+    Returns
+    -------
+    dict
+        ``max_deviation`` (max |delta - delta_Masing| over both branches, relative to the loop's
+        width 2 delta*), ``energy`` (J, the window's loop), ``masing_energy`` (J), ``energy_ratio``,
+        ``loop`` (the window's F and delta, and Masing's delta), ``converged``.
+    """
+    from ..solvers.hysteresis import hysteresis_loop, loop_energies
+
+    op = periodic_operator(grid, pair, components=("x", "y", "z"))
+    force = float(pressure) * grid.lx * grid.ly
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        run = hysteresis_loop(op, gap, normal_force=force, friction_coefficient=friction_coefficient,
+                              amplitude=amplitude, cycles=1, steps=steps, interaction=interaction, tol=tol)
+    F = np.array([run.start.tangential.force_x] + [s.tangential.force_x for s in run.steps])
+    d = np.array([run.start.tangential.displacement_x] + [s.tangential.displacement_x for s in run.steps])
+    br = ["start"] + list(run.path.branch)
+    virgin = [i for i, b in enumerate(br) if b in ("start", "loading")]
+    Fv, dv = F[virgin], d[virgin] - d[0]
+
+    def s0(x):
+        return np.interp(x, Fv, dv)
+
+    k_top = virgin[-1]
+    F_top, d_top = F[k_top], d[k_top]
+    pred = d.copy()
+    down = [i for i, b in enumerate(br) if b == "unloading"]
+    k_bot = down[-1]
+    pred[down] = d_top - 2 * s0((F_top - F[down]) / 2)
+    up = [i for i, b in enumerate(br) if b == "reloading"]
+    d_bot_pred = pred[k_bot]
+    pred[up] = d_bot_pred + 2 * s0((F[up] - F[k_bot]) / 2)
+    cyc = np.array([0] + list(run.path.cycle))
+    width = float(d.max() - d.min())
+    e = loop_energies(F, d, cyc)[0]
+    em = loop_energies(F, pred, cyc)[0]
+    idx = down + up
+    return {"max_deviation": float(np.max(np.abs(d[idx] - pred[idx])) / width), "energy": float(e),
+            "masing_energy": float(em), "energy_ratio": float(e / em) if em > 0 else float("nan"),
+            "loop": {"force": F.tolist(), "displacement": d.tolist(), "masing": pred.tolist(), "branch": br},
+            "converged": bool(all(s.converged for s in run.steps))}

@@ -13,6 +13,12 @@
     dissimilar pair (:data:`WHOLE_BURL_SLIP`): static friction within 3 %, the tangential
     displacement at 0.5 and 0.9 of it within 10 % (or the realisations' scatter).  The quick
     tier compares 20 nm cells on both sides, the gate 10 nm.
+``two_scale_hysteresis``
+    The small rough burl's friction loop (F* = 0.8 mu F, Masing's rule in every macro cell)
+    against whole-burl loops of the coupled pair (:data:`WHOLE_BURL_LOOP`): the loop energy and
+    K_L at A, B, C within 10 % (or the realisations' scatter); the interface's own frictional work
+    equal to the loop energy; and Masing's loop of one window against the window's own coupled
+    loop (energy within 10 %).
 ``two_scale_whole_burl``
     A rough SiC burl on a Si wafer (Gaussian roughness 1.5 nm rms, 50 nm correlation length,
     about 53 MPa over the flat top) solved whole at 10 nm cells (:data:`WHOLE_BURLS`: four
@@ -39,11 +45,11 @@ from ..materials import ContactPair, Material
 from ..two_scale.laws import NormalInterfaceLaw
 from ..two_scale.macro import solve_interface_normal
 from ..two_scale.micro import MicroWindows, interface_law
-from ..two_scale.tangential import interface_slip_law, solve_interface_tangential
+from ..two_scale.tangential import interface_loop, interface_slip_law, solve_interface_tangential, window_loop_check
 from .common import ValidationRow, _row
 
-__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "WHOLE_BURL_SLIP", "PAIR", "RMS", "CORRELATION", "MU",
-           "two_scale_burl", "two_scale_burl_slip"]
+__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "WHOLE_BURL_SLIP", "WHOLE_BURL_LOOP", "PAIR", "RMS", "CORRELATION", "MU",
+           "two_scale_burl", "two_scale_burl_slip", "two_scale_burl_loop"]
 
 #: The validation pair: Si wafer (body 1, rough) and SiC burl (body 2).
 PAIR = ContactPair(Material(130e9, 0.28), Material(410e9, 0.14))
@@ -73,6 +79,21 @@ QUICK_N = 512
 
 #: Friction coefficient of the partial-slip validation.
 MU = 0.2
+
+#: The friction loops of the hysteresis validation: F* = 0.8 mu F, 24 steps per cycle.
+LOOP_AMPLITUDE, LOOP_STEPS = 0.8, 24
+
+#: Whole-burl friction loops of the small burl (``kind = "hysteresis"``, force path 0 -> +F* -> -F*
+#: -> +F*, F* = 0.8 mu F0+, 24 steps, mu = 0.2, the coupled dissimilar pair; ``python -m
+#: studies.two_scale --whole-loop``, 2026-12-02): the loop energy (J) and K_L at A, B, C (N/m), per
+#: roughness seed.  "n512": 20 nm cells (23 s of CPU), "n1024": 10 nm cells.
+WHOLE_BURL_LOOP: dict = {
+    "n512": {"seeds": [100], "dissipated_energy": [4.9106528e-14],
+             "A": [439490.24], "B": [403036.67], "C": [342973.32]},
+    # 10 nm cells: 131-139 s of CPU per loop
+    "n1024": {"seeds": [100, 101], "dissipated_energy": [4.7874815e-14, 5.0740654e-14],
+              "A": [438213.35, 436829.20], "B": [402064.44, 399366.79], "C": [343251.84, 338311.74]},
+}
 
 #: Whole-burl partial-slip ramps of the small burl (``kind = "partial_slip"``, ``tangential_forces =
 #: "auto"``, mu = 0.2, the coupled dissimilar pair; ``python -m studies.two_scale --whole-slip``):
@@ -136,20 +157,11 @@ def two_scale_burl(name: str, *, window: float = 1e-6, window_n: int | None = No
             "window_n": window_n, "realisations": realisations, "macro_n": macro_n, "pressures": pressures}
 
 
-def two_scale_burl_slip(name: str = "small", *, window: float = 1e-6, window_n: int | None = None,
-                        realisations: int = 4, macro_n: int = 128, seed0: int = 0) -> dict:
-    """The two-scale tangential ramp of validation burl ``name`` at mu = :data:`MU`.
-
-    Returns
-    -------
-    dict
-        ``static_friction_force`` (N, mu F), ``d50`` and ``d90`` (m: the tangential displacement at
-        0.5 and 0.9 of it), ``converged``, ``cpu_s``.
-    """
+def _tangential_burl(name, window, window_n, realisations, macro_n, seed0):
+    """The small rough burl's macro normal state and its windows' slip law (mu = :data:`MU`)."""
     b = BURLS[name]
     if window_n is None:
         window_n = int(round(window / (b["size"] / b["n"])))
-    t = time.process_time()
     wgrid = Grid(window_n, window_n, window, window, periodic=True)
     gaps = []
     for k in range(realisations):
@@ -162,14 +174,63 @@ def two_scale_burl_slip(name: str = "small", *, window: float = 1e-6, window_n: 
     grid = Grid(macro_n, macro_n, b["size"], b["size"])
     op = free_boundary_operator(grid, PAIR, components=("x", "y", "z"))
     res = solve_interface_normal(op.normal, burl(grid, b["radius"], b["edge_radius"]), law, b["force"], tol=1e-9)
+    ok = bool(res.converged and law.converged and slip_law.converged)
+    return op, res, law, slip_law, ok, window_n
+
+
+def two_scale_burl_slip(name: str = "small", *, window: float = 1e-6, window_n: int | None = None,
+                        realisations: int = 4, macro_n: int = 128, seed0: int = 0) -> dict:
+    """The two-scale tangential ramp of validation burl ``name`` at mu = :data:`MU`.
+
+    Returns
+    -------
+    dict
+        ``static_friction_force`` (N, mu F), ``d50`` and ``d90`` (m: the tangential displacement at
+        0.5 and 0.9 of it), ``converged``, ``cpu_s``.
+    """
+    t = time.process_time()
+    op, res, law, slip_law, ok, window_n = _tangential_burl(name, window, window_n, realisations, macro_n, seed0)
     static = MU * res.force
-    out, ok, prev = {}, bool(res.converged and law.converged and slip_law.converged), None
+    out, prev = {}, None
     for key, frac in (("d50", 0.5), ("d90", 0.9)):
         r = solve_interface_tangential(op, res.pressure, slip_law, frac * static, initial_shear=prev, tol=1e-9)
         prev = r.shear
         out[key] = r.displacement
         ok = ok and r.converged
     return {"static_friction_force": static, **out, "converged": ok, "cpu_s": time.process_time() - t,
+            "window_n": window_n, "realisations": realisations, "macro_n": macro_n}
+
+
+def two_scale_burl_loop(name: str = "small", *, window: float = 1e-6, window_n: int | None = None,
+                        realisations: int = 4, macro_n: int = 128, seed0: int = 0,
+                        amplitude: float = LOOP_AMPLITUDE, steps: int = LOOP_STEPS) -> dict:
+    """The two-scale friction loop of validation burl ``name`` (F* = ``amplitude`` mu F, one
+    cycle of ``steps`` steps, Masing's rule in every macro cell).
+
+    Returns
+    -------
+    dict
+        ``dissipated_energy`` (J), ``dissipation_work`` (J, the interface's own work),
+        ``lateral_stiffness`` ({"A", "B", "C"}: N/m), ``converged``, ``cpu_s``.
+    """
+    from ..runs.loop_stiffness import stiffness_table
+    from ..solvers.hysteresis import cycle_path, loop_energies
+
+    t = time.process_time()
+    op, res, law, slip_law, ok, window_n = _tangential_burl(name, window, window_n, realisations, macro_n, seed0)
+    path = cycle_path(amplitude * MU * res.force, 1, steps, "force")
+    loop = interface_loop(op, res.pressure, slip_law, path.values, path.turning, path.cycle, tol=1e-9)
+    rows = [{"tangential_force_x": 0.0, "tangential_force_y": 0.0, "displacement_x": 0.0, "displacement_y": 0.0,
+             "branch": "start", "cycle": 0, "gross_slip": False}]
+    rows += [{"tangential_force_x": st.force, "tangential_force_y": 0.0, "displacement_x": st.displacement,
+              "displacement_y": 0.0, "branch": br, "cycle": int(c), "gross_slip": False}
+             for st, c, br in zip(loop.states, path.cycle, path.branch)]
+    table, _ = stiffness_table(rows, MU, res.force, None)
+    energy = loop_energies([r["tangential_force_x"] for r in rows], [r["displacement_x"] for r in rows],
+                           [r["cycle"] for r in rows])[0]
+    return {"dissipated_energy": energy, "dissipation_work": loop.dissipation[0],
+            "lateral_stiffness": {r["point"]: r["stiffness"] for r in table},
+            "converged": bool(ok and all(st.converged for st in loop.states)), "cpu_s": time.process_time() - t,
             "window_n": window_n, "realisations": realisations, "macro_n": macro_n}
 
 
@@ -186,6 +247,34 @@ def _slip_rows(quick: bool) -> list[ValidationRow]:
         d = float(np.mean(ref[q]))
         rows.append(_row(case, f"small burl, {key}: tangential displacement at {label} F_s (m)", d, ts[q],
                          max(0.10, float(np.ptp(ref[q])) / 2 / d)))
+    return rows
+
+
+def _loop_rows(quick: bool) -> list[ValidationRow]:
+    case = "two_scale_hysteresis"
+    key = "n512" if quick else "n1024"
+    ref = WHOLE_BURL_LOOP[key]
+    ts = two_scale_burl_loop("small", window_n=50 if key == "n512" else 100)
+    rows = []
+    e = float(np.mean(ref["dissipated_energy"]))
+    rows.append(_row(case, f"small burl, {key}: loop energy (J)", e, ts["dissipated_energy"],
+                     max(0.10, float(np.ptp(ref["dissipated_energy"])) / 2 / e)))
+    # the interface's own frictional work closes the energy balance of the Masing loop
+    rows.append(_row(case, "small burl: interface work sum(closed integral tau ds) dA = loop energy (J)",
+                     ts["dissipated_energy"], ts["dissipation_work"], 1e-6))
+    for point in ("A", "B", "C"):
+        k = float(np.mean(ref[point]))
+        rows.append(_row(case, f"small burl, {key}: K_L at {point} (N/m)", k, ts["lateral_stiffness"][point],
+                         max(0.10, float(np.ptp(ref[point])) / 2 / k)))
+    # Masing's rule against one window's own loop (the coupled pair, at the mean pressure over the top)
+    n = 50 if quick else 100
+    wgrid = Grid(n, n, 1e-6, 1e-6, periodic=True)
+    z = gaussian_surface(wgrid, RMS, CORRELATION, seed=0)
+    b = BURLS["small"]
+    chk = window_loop_check(wgrid, PAIR, z.max() - z, b["force"] / (math.pi * b["radius"] ** 2), MU,
+                            amplitude=LOOP_AMPLITUDE, steps=2 * LOOP_STEPS)
+    rows.append(_row(case, "one window: Masing's loop energy against its coupled loop (J)", chk["energy"],
+                     chk["masing_energy"], 0.10))
     return rows
 
 
@@ -261,4 +350,5 @@ CASES = {
     "two_scale_layer": _layer_rows,
     "two_scale_whole_burl": _whole_burl_rows,
     "two_scale_partial_slip": _slip_rows,
+    "two_scale_hysteresis": _loop_rows,
 }
