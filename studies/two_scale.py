@@ -25,6 +25,7 @@ Usage::
     python -m studies.two_scale --real                                  # the 300 um burl, window cells 10-1.25 nm
     python -m studies.two_scale --whole-slip --out results/two_scale   # whole-burl ramps (2 min per 1024^2)
     python -m studies.two_scale --whole-loop --out results/two_scale   # whole-burl friction loops
+    python -m studies.two_scale --real-chain                           # the 300 um burl: normal, ramp, loop
 
 The whole-burl numbers are committed in :data:`tribobem.validation.two_scale.WHOLE_BURLS`
 (``--whole`` prints them in that form); ``tribobem validate --physics two_scale`` computes only
@@ -75,6 +76,52 @@ print(json.dumps({"window_n": int(sys.argv[2]), "cpu_s": time.process_time() - t
                   "window_over_pressure_length": ts["window_over_pressure_length"],
                   "rms_slope": s["problem"]["roughness"]["body1"]["rms_slope"], "warnings": s["warnings"]}))
 """
+
+
+_CHAIN_CHILD = """
+import json, os, resource, sys, tempfile, time, tomllib, warnings
+warnings.simplefilter("ignore")
+os.environ["TRIBOBEM_CACHE"] = tempfile.mkdtemp()  # the chain's stages share their tables, nothing before
+from tribobem.scenario import parse_scenario, run_scenario
+d = tomllib.load(open(sys.argv[1], "rb"))
+d["two_scale"]["window_n"] = int(sys.argv[2])
+out = {"window_n": int(sys.argv[2])}
+t0 = time.process_time()
+stages = {"normal": {}, "ramp": {"kind": "partial_slip", "friction": {"coefficient": 0.2, "tangential_forces": "auto"}},
+          "hysteresis": {"kind": "hysteresis", "friction": {"coefficient": 0.2, "path": {
+              "control": "force", "amplitude": 0.9, "cycles": 1, "steps": 24}}}}
+for name, change in stages.items():
+    sc = dict(d, **change)
+    t = time.process_time()
+    s = run_scenario(parse_scenario(sc), outdir=None, progress=False, warn=False).summary
+    r = {"cpu_s": time.process_time() - t, "converged": s["converged"], "warnings": s["warnings"]}
+    if name == "normal":
+        st = s["steps"][0]
+        r.update(approach=st["approach"], contact_area=st["contact_area"], max_pressure=st["max_pressure"],
+                 nominal_contact_area=st["nominal_contact_area"])
+    elif name == "ramp":
+        r.update(static_friction_force=s["static_friction_force"], d50=s["displacement_at_half_static_friction"],
+                 d90=s["displacement_at_0p9_static_friction"], presliding=s["presliding_displacement"])
+    else:
+        r.update(dissipated_energy=s["dissipated_energy"][0],
+                 lateral_stiffness={k["point"]: k["stiffness"] for k in s["lateral_stiffness"]})
+    out[name] = r
+out["cpu_s"] = time.process_time() - t0
+out["peak_rss_gb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
+print(json.dumps(out))
+"""
+
+
+def real_chain(window_n: int = 400) -> dict:
+    """The real-size burl's chain (normal at 0.3 N, ramp to gross slip, one friction loop at 0.9 of
+    the static friction) in one fresh process with an empty table cache: CPU time and peak memory
+    of the whole chain."""
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", _CHAIN_CHILD, str(REAL_SCENARIO), str(window_n)], check=True,
+                         capture_output=True, text=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
 
 
 def real_burl(window_n: int) -> dict:
@@ -163,6 +210,7 @@ def main(argv=None) -> int:
     ap.add_argument("--real", action="store_true", help="the 300 um burl at four window resolutions")
     ap.add_argument("--whole-slip", action="store_true", help="whole-burl partial-slip ramps (512^2 and 1024^2)")
     ap.add_argument("--whole-loop", action="store_true", help="whole-burl friction loops (512^2 and 1024^2)")
+    ap.add_argument("--real-chain", action="store_true", help="the 300 um burl's normal, ramp and loop chain")
     ap.add_argument("--out", default="results/two_scale", help="folder for the JSON records")
     args = ap.parse_args(argv)
     out = Path(args.out)
@@ -184,6 +232,10 @@ def main(argv=None) -> int:
             rows.append(r)
             print(json.dumps(r), flush=True)
         (out / "whole_loop.json").write_text(json.dumps(rows, indent=1))
+    if args.real_chain:
+        r = real_chain()
+        print(json.dumps(r), flush=True)
+        (out / "real_chain.json").write_text(json.dumps(r, indent=1))
     if args.real:
         rows = []
         for n in REAL_WINDOW_CELLS:

@@ -333,3 +333,52 @@ hysteresis = false
     assert "0 of 2 points done, running 2" in r.stderr
     r = CliRunner().invoke(app, [*args[:3], str(tmp_path / "out2"), *args[4:], "--quiet"])
     assert r.exit_code == 0 and r.stderr == "", r.stderr  # --quiet: no progress, no messages
+
+
+TWO_SCALE_BASE = {
+    "name": "two-scale burl",
+    "grid": {"n": 48, "size": "16 um"},
+    "body1": {"E": "130 GPa", "nu": 0.28,
+              "roughness": {"kind": "gaussian", "rms": "1.5 nm", "correlation_length": "50 nm", "seed": 3}},
+    "body2": {"E": "410 GPa", "nu": 0.14, "shape": {"kind": "burl", "radius": "4 um", "edge_radius": "100 um"}},
+    "load": {"force": "2 mN"},
+    "friction": {"coefficient": 0.2},
+    "two_scale": {"window": "1 um", "window_n": 32, "realisations": 1, "min_pressure": "10 kPa",
+                  "max_pressure": "2 GPa"},
+}
+
+
+def test_a_two_scale_design_shares_its_micro_tables_and_ranks_by_stiffness(tmp_path, monkeypatch):
+    monkeypatch.setenv("TRIBOBEM_CACHE", str(tmp_path / "cache"))
+    design = DesignSpec.from_dict({"name": "two-scale", "base": TWO_SCALE_BASE,
+                                   "parameters": {"body2.shape.radius": ["3 um", "6 um"]},
+                                   "chain": {"hysteresis": {"amplitude": 0.9, "steps": 16}},
+                                   "targets": {"lateral_stiffness": {"min": "1 N/m"}}})
+    res = run_design(design, tmp_path / "out", scheduler="synchronous", progress=False, quiet=True)
+    rows = {r["point"]["body2.shape.radius"]: r for r in res.rows}
+    assert all(r["status"] == "ok" for r in rows.values())
+    small, big = rows["3 um"], rows["6 um"]
+    for r in (small, big):
+        # every window slides at its own mu p, so the burl at mu F; dry: no pull-off run
+        assert r["static_friction_force"] == pytest.approx(0.2 * 2e-3, rel=1e-9)
+        assert r["pull_off_force"] == 0.0
+    # a wider top is stiffer (the full-stick stiffness 8 a G* grows with the top radius a)
+    assert big["lateral_stiffness_B"] > 1.3 * small["lateral_stiffness_B"]
+    assert big["presliding_displacement"] < small["presliding_displacement"]
+    # the two points (and the three stages of each) use one normal and one slip table
+    assert len(list((tmp_path / "cache" / "two_scale").glob("*.json"))) == 2
+
+
+def test_a_humid_two_scale_design_point_says_what_it_cannot_run(tmp_path, monkeypatch):
+    from tribobem.design.chain import run_chain
+
+    monkeypatch.setenv("TRIBOBEM_CACHE", str(tmp_path / "cache"))
+    sc = {**TWO_SCALE_BASE, "humidity": {"rh": 0.5}, "body1": {**TWO_SCALE_BASE["body1"], "film": {"isotherm": "Si"}}}
+    out = run_chain(sc, {"pulloff": True, "hysteresis": None, "tangential_forces": [0.0, 1e-4]})
+    # no whole-grid pull-off on the macro grid (its roughness lives in the windows): skipped, and said
+    assert out["stages"]["pulloff"]["status"] == "skipped"
+    assert "two_scale" in out["stages"]["pulloff"]["message"]
+    assert math.isnan(out["values"]["pull_off_force"])
+    assert any("pull-off not computed" in w for w in out["warnings"])
+    # the humid ramp is refused with the key named
+    assert out["stages"]["ramp"]["status"] == "failed" and "humidity" in out["stages"]["ramp"]["message"]
