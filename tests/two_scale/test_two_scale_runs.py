@@ -242,3 +242,46 @@ def test_unsupported_two_scale_loops_name_the_key(changes, key):
     with pytest.raises(InputError) as err:
         run_scenario(parse_scenario(loop_scenario(**changes)), outdir=None, progress=False, warn=False)
     assert key in str(err.value)
+
+
+def _scan_file(tmp_path, n=512, seed=100):
+    """The validation roughness (seed 100) written as a scan file (npy, heights in m)."""
+    grid = Grid(n, n, 10.24e-6, 10.24e-6)
+    path = tmp_path / "scan.npy"
+    np.save(path, gaussian_surface(grid, 1.5e-9, 50e-9, seed=seed))
+    return path
+
+
+def _measured(path, **changes):
+    rough = {"kind": "file", "path": str(path), "physical_size": ["10.24 um", "10.24 um"], "unit": "m",
+             "detrend": "none"}
+    return scenario(**{"body1.roughness": rough, "grid.n": 128, "two_scale.realisations": 16, **changes})
+
+
+def test_windows_cut_from_a_measured_scan_match_the_whole_burl_on_that_scan(tmp_path):
+    path = _scan_file(tmp_path)
+    s = run_scenario(parse_scenario(_measured(path)), outdir=None, progress=False, warn=False).summary
+    step = s["steps"][0]
+    approach_whole, area_whole = whole_burl()  # the same surface on the whole grid
+    files = s["problem"]["files"]["body1.roughness"]
+    assert files["windows"] == 100 and s["problem"]["two_scale"]["realisations"] == 16
+    # the wavelengths above the window (here 0.16 nm of the 1.5 nm rms) go to the macro grid
+    assert files["macro_rms"] < 0.2 * files["scan_rms"]
+    # measured: real area -2.1 %, approach of the mean planes 0.037 nm (2.5 % of the rms) from the whole burl
+    assert step["contact_area"] == pytest.approx(area_whole, rel=0.05)
+    approach = step["approach"] + s["problem"]["two_scale"]["macro_gap_shift"]
+    assert abs(approach - approach_whole) < 0.04 * 1.5e-9
+    assert s["problem"]["two_scale"]["measured"] == ["body1"]
+
+
+def test_measured_windows_errors_and_warnings_name_the_key(tmp_path):
+    path = _scan_file(tmp_path, n=128)
+    with pytest.raises(InputError) as err:
+        run_scenario(parse_scenario(_measured(path, **{"two_scale.window": "12 um", "two_scale.window_n": 64})),
+                     outdir=None, progress=False, warn=False)
+    assert "two_scale.window" in str(err.value)
+    s = run_scenario(parse_scenario(_measured(path, **{"two_scale.window": "4 um", "two_scale.window_n": 50,
+                                                       "two_scale.realisations": 8})),
+                     outdir=None, progress=False, warn=False).summary
+    assert any(w.startswith("two_scale.realisations") and "4 window(s)" in w for w in s["warnings"])
+    assert s["problem"]["two_scale"]["realisations"] == 4

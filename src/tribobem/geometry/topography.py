@@ -23,6 +23,8 @@ from . import stats as _stats
 
 __all__ = [
     "Topography",
+    "periodic_component",
+    "split_at_wavelength",
     "read_topography",
     "detrend_heights",
     "validate_heights",
@@ -624,3 +626,75 @@ def gap_from_bodies(grid: Grid, upper_shape=None, upper_roughness=None, lower_ro
                     ("lower_roughness", lower_roughness)):
         parts[name] = np.zeros(grid.shape) if a is None else validate_heights(a, f"gap.{name}", grid)
     return combine_gap(parts["lower_roughness"], parts["upper_shape"] + parts["upper_roughness"])
+
+
+def periodic_component(h: np.ndarray) -> np.ndarray:
+    """The periodic part of a non-periodic height map (Moisan's periodic-plus-smooth split).
+
+    ``h = p + s``: ``s`` is the smooth field (harmonic inside, driven by the jumps between
+    opposite edges) that carries the map's edge discontinuities, ``p`` is periodic and keeps the
+    map's local content (its summits, slopes and curvatures away from the edges).  A scan cut
+    into periodic windows keeps its asperities without the steps a plain periodic repeat puts at
+    the window's edges.
+
+    Parameters
+    ----------
+    h : ndarray, shape (nx, ny)
+        Heights (m).
+
+    Returns
+    -------
+    ndarray
+        The periodic component p (m), with the mean of ``h``.
+
+    References
+    ----------
+    L. Moisan, "Periodic plus smooth image decomposition", J. Math. Imaging Vis. 39 (2011) 161.
+    """
+    h = np.asarray(h, dtype=float)
+    nx, ny = h.shape
+    v = np.zeros_like(h)
+    jx = h[-1, :] - h[0, :]
+    jy = h[:, -1] - h[:, 0]
+    v[0, :] += jx
+    v[-1, :] -= jx
+    v[:, 0] += jy
+    v[:, -1] -= jy
+    cx = 2.0 * np.cos(2.0 * np.pi * np.arange(nx) / nx)[:, None]
+    cy = 2.0 * np.cos(2.0 * np.pi * np.arange(ny) / ny)[None, :]
+    den = cx + cy - 4.0
+    den[0, 0] = 1.0
+    s_hat = np.fft.fft2(v) / den
+    s_hat[0, 0] = 0.0
+    return h - np.real(np.fft.ifft2(s_hat))
+
+
+def split_at_wavelength(h: np.ndarray, dx: float, dy: float, wavelength: float) -> tuple[np.ndarray, np.ndarray]:
+    """Split a non-periodic height map into wavelengths longer and shorter than ``wavelength``.
+
+    The map's periodic component (:func:`periodic_component`) is filtered in Fourier space (a
+    sharp cut at |q| = 2 pi / wavelength); the smooth component, which carries the edge
+    discontinuities and varies over the whole map, goes with the long part.
+
+    Parameters
+    ----------
+    h : ndarray, shape (nx, ny)
+        Heights (m).
+    dx, dy : float
+        Cell sizes (m).
+    wavelength : float
+        Cut-off wavelength (m).
+
+    Returns
+    -------
+    (long, short) : ndarray, ndarray
+        ``long + short == h``; ``short`` is periodic over the map with zero mean.
+    """
+    h = np.asarray(h, dtype=float)
+    p = periodic_component(h)
+    qx = 2.0 * np.pi * np.fft.fftfreq(h.shape[0], dx)[:, None]
+    qy = 2.0 * np.pi * np.fft.rfftfreq(h.shape[1], dy)[None, :]
+    keep = np.hypot(qx, qy) < 2.0 * np.pi / float(wavelength)
+    long_p = np.fft.irfft2(np.fft.rfft2(p) * keep, s=h.shape)
+    long = (h - p) + long_p
+    return long, h - long

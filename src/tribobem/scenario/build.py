@@ -546,12 +546,57 @@ def _longest_wavelength(spec) -> tuple[float, str] | None:
     return None
 
 
-def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warns: list):
+def _scan_tiles(spec, wgrid: Grid, key: str, loader, info: dict):
+    """A measured roughness split at the window's side: its windows and its long wavelengths.
+
+    The scan (detrended and cropped as its section says, scaled to ``rms`` when given) is split
+    at the wavelength of the window's side (:func:`tribobem.geometry.topography.split_at_wavelength`).
+    The short part is cut into non-overlapping squares of the window's side, row by row, each
+    resampled to the window's cells (linear interpolation) and made periodic by its
+    periodic-plus-smooth split (no steps at the window's edges): the micro windows.  The long
+    part, returned as a Topography, goes to the macro grid.
+    """
+    from ..geometry.topography import Topography, periodic_component, split_at_wavelength
+
+    if spec.kind != "file":
+        raise InputError(key, "windows are cut from a measured scan given as a file (kind = 'file'); an array "
+                         "topography has no physical size of its own here")
+    topo = loader.topography(spec, key)
+    tg = topo.grid
+    kx, ky = int(tg.lx // (wgrid.lx * (1 - 1e-9))), int(tg.ly // (wgrid.ly * (1 - 1e-9)))
+    if kx * ky == 0:
+        raise InputError("two_scale.window", f"{wgrid.lx:.4g} m is larger than {key}'s scan ({tg.lx:.4g} x "
+                         f"{tg.ly:.4g} m): the windows are cut from the scan")
+    h = topo.heights - float(np.mean(topo.heights))
+    if spec.rms is not None:
+        h = h * (float(spec.rms) / float(np.sqrt(np.mean(h ** 2))))
+    if spec.invert:
+        h = -h
+    long, short = split_at_wavelength(h, tg.dx, tg.dy, wgrid.lx)
+    fine = Topography(short, tg, source=topo.source)
+    out = []
+    box = Grid(wgrid.nx, wgrid.ny, wgrid.lx, wgrid.ly, periodic=False)
+    for j in range(ky):
+        for i in range(kx):
+            # the resample offset is from the scan's centre to the window's centre
+            off = ((i + 0.5) * wgrid.lx - 0.5 * tg.lx, (j + 0.5) * wgrid.ly - 0.5 * tg.ly)
+            p = periodic_component(fine.resample(box, offset=off).heights)
+            out.append(p - p.mean())
+    rms = float(np.sqrt(np.mean(h ** 2)))
+    info.setdefault("files", {})[key] = {"path": str(topo.source or spec.path), "scan_grid": [int(tg.nx), int(tg.ny)],
+                                         "scan_size": [float(tg.lx), float(tg.ly)], "windows": kx * ky,
+                                         "scan_rms": rms, "window_rms": float(np.sqrt(np.mean(short ** 2))),
+                                         "macro_rms": float(np.sqrt(np.mean(long ** 2)))}
+    return out, Topography(long, tg, source=topo.source)
+
+
+def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warns: list, loader=None):
     """The periodic micro windows of a ``[two_scale]`` run: one gap per roughness realisation.
 
     Each window holds both bodies' roughness, generated on the window grid with the seeds
     ``seed + k`` (k = 0 .. realisations - 1; seed 0 when the scenario gives none, so that a
-    rerun reuses the cached tables), and the textures that tile it.
+    rerun reuses the cached tables) or cut from a measured scan (window k: the scan's k-th
+    square, :func:`_scan_tiles`), and the textures that tile it.
     """
     from ..geometry.textures import texture_fits_window
     from ..two_scale.micro import MicroWindows
@@ -561,11 +606,16 @@ def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warn
         raise InputError("two_scale", "a two-scale run needs an elastic body (both bodies are rigid)")
     wgrid = Grid(int(ts.window_n), int(ts.window_n), float(ts.window), float(ts.window), True)
     specs = {name: getattr(sc, name).roughness for name in ("body1", "body2")}
+    split = {name: _scan_tiles(spec, wgrid, f"{name}.roughness", loader, info)
+             for name, spec in specs.items() if spec.kind in ("file", "array")}
+    tiles = {name: t for name, (t, _) in split.items()}
+    realisations = int(ts.realisations)
+    for name, t in tiles.items():
+        if len(t) < realisations:
+            warns.append(f"two_scale.realisations: {name}'s scan holds {len(t)} window(s) of {ts.window:.3g} m; "
+                         f"{len(t)} realisation(s) instead of {realisations}")
+            realisations = len(t)
     for name, spec in specs.items():
-        if spec.kind in ("file", "array"):
-            raise InputError(f"{name}.roughness", "a two-scale run generates its micro windows from roughness "
-                             "statistics (gaussian or self_affine); windows cut from a measured topography are "
-                             "not available yet (run the whole grid, or describe the scan by its statistics)")
         longest = _longest_wavelength(spec)
         if longest is not None and ts.window < MIN_WINDOW_WAVELENGTHS * longest[0] * (1 - 1e-9):
             raise InputError("two_scale.window", f"{ts.window:.4g} m holds {ts.window / longest[0]:.2f} of "
@@ -587,7 +637,8 @@ def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warn
         if getattr(shape, "kind", None) == "burl":
             # the edge zone: where the burl's edge falls by the interface's height scale (4 rms
             # of the combined roughness), over which the nominal pressure drops to zero
-            rms = math.sqrt(sum(float(getattr(sp, "rms", None) or 0.0) ** 2 for sp in specs.values()))
+            rms = math.sqrt(sum((float(np.std(tiles[n][0])) if n in tiles else float(getattr(sp, "rms", None) or 0.0))
+                                ** 2 for n, sp in specs.items()))
             edge = math.sqrt(2.0 * float(shape.edge_radius) * 4.0 * rms) if rms > 0 else None
             if edge is not None and grid.dx > 0.5 * edge:
                 warns.append(f"grid.n: the macro cells ({grid.dx:.3g} m) are coarser than half the burl's edge zone "
@@ -598,10 +649,13 @@ def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warn
                          "windows hold the roughness")
     gaps = []
     first: dict = {}  # each body's roughness in the first window, for the summary's statistics
-    for k in range(int(ts.realisations)):
+    for k in range(realisations):
         topo = np.zeros(wgrid.shape)
         for name, spec in specs.items():
-            if spec.kind != "none":
+            if name in tiles:
+                topo = topo + tiles[name][k]
+                first.setdefault(name, (tiles[name][k], wgrid))
+            elif spec.kind != "none":
                 seeded = spec.model_copy(update={"seed": int(spec.seed or 0) + k})
                 rough = _roughness(seeded, wgrid, f"{name}.roughness", None, {}, [])
                 topo = topo + rough
@@ -614,11 +668,13 @@ def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warn
     short = [f"{n}.texture" for n in ("body1", "body2") if getattr(sc, n).texture is not None
              and texture_fits_window(getattr(sc, n).texture.pitch, ts.window)]
     winfo = {"window": float(ts.window), "window_n": int(ts.window_n), "window_dx": float(wgrid.dx),
-             "realisations": int(ts.realisations), "macro_dx": float(grid.dx),
+             "realisations": int(realisations), "measured": sorted(tiles), "macro_dx": float(grid.dx),
              "seeds": [int(getattr(specs[n], "seed", None) or 0) for n in ("body1", "body2")], "window_textures": short}
     info["two_scale"] = winfo
     windows = MicroWindows(wgrid, pair, gaps, interaction, dict(winfo))
     windows.info["roughness_of"] = {n: r for n, (r, _) in first.items()}
+    # a measured scan's wavelengths longer than the window: part of the macro geometry
+    windows.info["macro_roughness"] = {n: lt for n, (_, lt) in split.items()}
     return windows
 
 
@@ -739,7 +795,22 @@ def _build_problem(scenario: Scenario, base_dir) -> Problem:
     E_star = pair.effective_modulus if pair is not None else None  # None: both bodies rigid
     interaction = get_law(sc.adhesion.model).build(sc.adhesion, LawContext(grid, E_star))
     humidity = humidity_setup(sc, shape1, shape2, rough1, rough2)
-    windows = _micro_windows(sc, grid, pair, interaction, info, warns) if ts is not None else None
+    windows = _micro_windows(sc, grid, pair, interaction, info, warns, loader) if ts is not None else None
+    if windows is not None and windows.info.get("macro_roughness"):
+        # a measured scan's wavelengths longer than the window are part of the macro geometry
+        macro = windows.info.pop("macro_roughness")
+        for name, long in macro.items():
+            spec = getattr(sc, name).roughness
+            h = long.resample(grid, offset=tuple(spec.offset)).heights
+            if name == "body1":
+                rough1 = rough1 + h
+            else:
+                rough2 = rough2 + h
+            gap = gap - h
+        # the approach is then measured from the first touch of the macro gap with its long
+        # wavelengths; this shift takes it back to the mean planes of the undeformed bodies
+        info["two_scale"]["macro_gap_shift"] = float(gap.min())
+        gap = gap - float(gap.min())
 
     info.update({
         "grid": {"nx": grid.nx, "ny": grid.ny, "lx": grid.lx, "ly": grid.ly, "dx": grid.dx, "dy": grid.dy,

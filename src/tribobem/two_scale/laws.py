@@ -94,6 +94,8 @@ class NormalInterfaceLaw:
         self._inverse_lnp, self._inverse_g = fine[::-1], self._spline(fine)[::-1]  # g increasing
         # dg/dln p at the ends (the extrapolation above the table continues the last slope)
         self._end_slope = float(self._slope(self._lnp[-1]))
+        if not self._end_slope < 0:  # PCHIP's shape-preserving end slope can be 0: the last secant
+            self._end_slope = float((self.gaps[-1] - self.gaps[-2]) / (self._lnp[-1] - self._lnp[-2]))
         self._fraction = PchipInterpolator(self._lnp, np.asarray(self.contact_fractions, float), extrapolate=True)
         self._pmax = PchipInterpolator(self._lnp, np.log(np.maximum(np.asarray(self.max_pressures, float), 1e-300)),
                                        extrapolate=True)

@@ -244,4 +244,15 @@ def interface_law(windows: MicroWindows, pressures, *, tol: float = 1e-8, max_it
                  "iterations": int(sum(sum(t["iterations"]) for t in tables)),
                  "not_converged": int(sum(len(t["converged"]) - sum(t["converged"]) for t in tables)),
                  "solves": int(sum(len(t["converged"]) for t in tables))})
+    gaps = np.mean([t["gaps"] for t in tables], axis=0)
+    flat = np.flatnonzero(np.diff(gaps) >= 0)
+    if flat.size:
+        # the windows' mean gap stopped decreasing: they are (nearly) in full contact, where the
+        # interface has no compliance left and the law cannot be inverted
+        k = int(flat[0]) + 1
+        frac = float(np.mean([t["contact_fractions"][k] for t in tables]))
+        raise InputError("two_scale.max_pressure", f"the windows' mean gap stops decreasing at {pressures[k]:.4g} Pa "
+                         f"(real contact fraction {frac:.3g}): the windows are in full contact there and the interface "
+                         "law cannot be inverted; give a smaller max_pressure, or windows that hold more of the "
+                         "roughness (a larger two_scale.window)")
     return NormalInterfaceLaw.from_realisations(pressures, tables, info)
