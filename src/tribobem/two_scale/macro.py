@@ -33,7 +33,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["InterfaceNormalResult", "solve_interface_normal", "pressure_length"]
+__all__ = ["InterfaceNormalResult", "solve_interface_normal", "pressure_length", "radial_pressure_profile"]
 
 
 @dataclass
@@ -289,3 +289,40 @@ def pressure_length(pressure: np.ndarray, dx: float, dy: float) -> dict:
     sel = pressure > 0.1 * float(pressure[loaded].mean())
     length = pressure[sel] / np.maximum(grad[sel], np.finfo(float).tiny)
     return {"median": float(np.median(length)), "p05": float(np.percentile(length, 5))}
+
+
+def radial_pressure_profile(pressure: np.ndarray, dx: float, dy: float, width: float, rmax: float) -> dict:
+    """The azimuthal mean of a pressure field in rings about the grid's centre.
+
+    On a whole-grid solve the rings average the asperity pressures into the nominal pressure
+    profile; on a macro grid they average its cells.
+
+    Parameters
+    ----------
+    pressure : ndarray
+        Pressure (Pa), local or nominal.
+    dx, dy : float
+        Cell sides (m).
+    width : float
+        Ring width (m).
+    rmax : float
+        Outer radius of the last ring (m).
+
+    Returns
+    -------
+    dict
+        ``radius`` (m, the rings' mid radii) and ``pressure`` (Pa, their mean pressure; NaN in a
+        ring without cells).
+    """
+    nx, ny = pressure.shape
+    x = (np.arange(nx) + 0.5) * dx - 0.5 * nx * dx
+    y = (np.arange(ny) + 0.5) * dy - 0.5 * ny * dy
+    r = np.hypot(x[:, None], y[None, :]).ravel()
+    edges = np.arange(0.0, rmax + 0.5 * width, width)
+    k = np.digitize(r, edges) - 1
+    ok = (k >= 0) & (k < edges.size - 1)
+    total = np.bincount(k[ok], weights=np.asarray(pressure, float).ravel()[ok], minlength=edges.size - 1)
+    count = np.bincount(k[ok], minlength=edges.size - 1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.where(count > 0, total / np.maximum(count, 1), np.nan)
+    return {"radius": (0.5 * (edges[:-1] + edges[1:])).tolist(), "pressure": mean.tolist()}
