@@ -25,6 +25,7 @@ Usage::
     python -m studies.two_scale --real                                  # the 300 um burl, window cells 10-1.25 nm
     python -m studies.two_scale --whole-slip --out results/two_scale   # whole-burl ramps (2 min per 1024^2)
     python -m studies.two_scale --whole-loop --out results/two_scale   # whole-burl friction loops
+    python -m studies.two_scale --whole-humid --out results/two_scale  # whole-burl ramps at RH 0.5
     python -m studies.two_scale --real-chain                           # the 300 um burl: normal, ramp, loop
 
 The whole-burl numbers are committed in :data:`tribobem.validation.two_scale.WHOLE_BURLS`
@@ -202,6 +203,33 @@ def whole_burl_loop(n: int, seed: int, amplitude: float = LOOP_AMPLITUDE, steps:
             "cpu_s": time.process_time() - t}
 
 
+def whole_burl_humid(n: int, seed: int, rh: float = 0.5) -> dict:
+    """The whole small burl's humid ramp at ``rh`` (Si and SiO2 films, meniscus forces without van
+    der Waals, mu = 0.2, ``tangential_forces = "auto"``) on ``n``^2 cells, roughness seed
+    ``seed``: static friction, F0+ and the meniscus force at zero tangential load, and the
+    tangential displacement at 0.5 and 0.9 of the static friction."""
+    import numpy as np
+
+    from tribobem.scenario import parse_scenario, run_scenario
+    from tribobem.validation.two_scale import MU
+
+    sc = _small_burl_scenario("partial_slip", n, seed, {"coefficient": MU, "tangential_forces": "auto", "slip": "total"})
+    sc["body1"]["film"] = {"isotherm": "Si"}
+    sc["body2"]["film"] = {"isotherm": "SiO2"}
+    sc["humidity"] = {"rh": [rh], "van_der_waals": False}
+    t = time.process_time()
+    s = run_scenario(parse_scenario(sc), outdir=None, progress=False, warn=False).summary
+    rows = [r for r in s["steps"] if r.get("rh") == rh]
+    fx = [r["tangential_force_x"] for r in rows]
+    dx = [r["displacement_x"] for r in rows]
+    fs = s["static_friction_force"][0]
+    return {"n": n, "seed": seed, "rh": rh, "static_friction_force": fs, "repulsive_force": rows[0]["repulsive_force"],
+            "capillary_force": rows[0]["capillary_force"], "wetted_area": rows[0].get("wetted_area"),
+            "contact_area": rows[0]["contact_area"], "d50": float(np.interp(0.5 * fs, fx, dx)) - dx[0],
+            "d90": float(np.interp(0.9 * fs, fx, dx)) - dx[0], "converged": s["converged"],
+            "cpu_s": time.process_time() - t}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--whole", action="store_true", help="compute the whole-burl references")
@@ -210,6 +238,7 @@ def main(argv=None) -> int:
     ap.add_argument("--real", action="store_true", help="the 300 um burl at four window resolutions")
     ap.add_argument("--whole-slip", action="store_true", help="whole-burl partial-slip ramps (512^2 and 1024^2)")
     ap.add_argument("--whole-loop", action="store_true", help="whole-burl friction loops (512^2 and 1024^2)")
+    ap.add_argument("--whole-humid", action="store_true", help="whole-burl humid ramps at RH 0.5 (512^2, 1024^2)")
     ap.add_argument("--real-chain", action="store_true", help="the 300 um burl's normal, ramp and loop chain")
     ap.add_argument("--out", default="results/two_scale", help="folder for the JSON records")
     args = ap.parse_args(argv)
@@ -232,6 +261,13 @@ def main(argv=None) -> int:
             rows.append(r)
             print(json.dumps(r), flush=True)
         (out / "whole_loop.json").write_text(json.dumps(rows, indent=1))
+    if args.whole_humid:
+        rows = []
+        for n, seed in ((512, 100), (512, 101), (1024, 100), (1024, 101)):
+            r = whole_burl_humid(n, seed)
+            rows.append(r)
+            print(json.dumps(r), flush=True)
+        (out / "whole_humid.json").write_text(json.dumps(rows, indent=1))
     if args.real_chain:
         r = real_chain()
         print(json.dumps(r), flush=True)

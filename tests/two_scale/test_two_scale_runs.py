@@ -198,7 +198,6 @@ def test_two_scale_partial_slip_ramps_to_the_static_friction():
     ({"friction.tangential_forces": None, "friction.tangential_displacements": ["1 nm"]},
      "friction.tangential_displacements"),
     ({"friction.direction": 30}, "friction.direction"),
-    ({"humidity": {"rh": 0.5}}, "humidity"),
 ])
 def test_unsupported_two_scale_ramps_name_the_key(changes, key):
     with pytest.raises(InputError) as err:
@@ -235,7 +234,6 @@ def test_two_scale_loop_matches_the_whole_burl_loop():
     ({"friction.path": {"control": "displacement", "stroke": "1 nm", "cycles": 1, "steps": 24}},
      "friction.path.control"),
     ({"friction.path.amplitude": 0.999}, "friction.path.amplitude"),
-    ({"humidity": {"rh": 0.5}}, "humidity"),
 ])
 def test_unsupported_two_scale_loops_name_the_key(changes, key):
     changes = {"two_scale.window_n": 32, "two_scale.realisations": 1, "grid.n": 32, **changes}
@@ -285,3 +283,34 @@ def test_measured_windows_errors_and_warnings_name_the_key(tmp_path):
                      outdir=None, progress=False, warn=False).summary
     assert any(w.startswith("two_scale.realisations") and "4 window(s)" in w for w in s["warnings"])
     assert s["problem"]["two_scale"]["realisations"] == 4
+
+
+HUMID = {"body1.film": {"isotherm": "Si"}, "body2.film": {"isotherm": "SiO2"},
+         "humidity": {"rh": 0.5, "van_der_waals": False}}
+
+
+def test_a_humid_two_scale_ramp_matches_the_whole_burl_at_rh_0p5():
+    from tribobem.validation.two_scale import WHOLE_BURL_HUMID
+
+    d = slip_scenario(**{"two_scale.window_n": 50, "two_scale.realisations": 4, "grid.n": 128, **HUMID})
+    s = run_scenario(parse_scenario(d), outdir=None, progress=False, warn=False).summary
+    ref = WHOLE_BURL_HUMID["n512"]  # the whole burl at the windows' 20 nm cells, RH 0.5, seed 100
+    assert s["converged"] and s["rh"] == 0.5
+    # the menisci pull the burl on: F0+ = F + |F_cap| (measured -0.5 %, -0.9 %), and every window slides
+    # at mu times its repulsive pressure, so the burl at mu F0+ (measured -0.4 %); a dry law gives mu F,
+    # 58 % low
+    assert s["repulsive_force"] == pytest.approx(ref["repulsive_force"][0], rel=0.03)
+    assert s["capillary_force"] == pytest.approx(ref["capillary_force"][0], rel=0.05)
+    assert s["static_friction_force"] == pytest.approx(0.2 * s["repulsive_force"], rel=1e-9)
+    assert s["static_friction_force"] == pytest.approx(ref["static_friction_force"][0], rel=0.03)
+    # measured -1.2 % and +0.1 %
+    assert s["displacement_at_half_static_friction"] == pytest.approx(ref["d50"][0], rel=0.10)
+    assert s["displacement_at_0p9_static_friction"] == pytest.approx(ref["d90"][0], rel=0.10)
+    assert s["steps"][0]["capillary_force"] == s["capillary_force"] and s["wetted_area"] > 0
+
+
+def test_a_humid_two_scale_run_takes_one_rh():
+    d = slip_scenario(**{**HUMID, "humidity": {"rh": [0.3, 0.7], "van_der_waals": False}})
+    with pytest.raises(InputError) as err:
+        run_scenario(parse_scenario(d), outdir=None, progress=False, warn=False)
+    assert "humidity.rh" in str(err.value)

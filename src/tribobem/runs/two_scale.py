@@ -56,15 +56,16 @@ HIGH_FACTOR = 2.0
 
 
 def check_two_scale_tangential(sc, what: str) -> None:
-    """What a two-scale tangential run supports: along x, dry, non-adhesive (``what``: "ramp" or
-    "loop", for the messages)."""
+    """What a two-scale tangential run supports: along x, non-adhesive, dry or at one RH
+    (``what``: "ramp" or "loop", for the messages)."""
     from .kind import fail
 
     fr = sc.friction
     if fr.direction != 0.0:
         fail("friction.direction", f"a two-scale {what} runs along x (direction 0)")
-    if sc.humidity is not None:
-        fail("humidity", "capillary interface laws are not available for two-scale runs yet: run the whole grid")
+    if sc.humidity is not None and len(sc.humidity.rh or []) != 1:
+        fail("humidity.rh", f"a two-scale {what} runs at one RH (its windows' menisci are tabulated at it); "
+             f"got {list(sc.humidity.rh or [])}: run one scenario per RH (a sweep over humidity.rh)")
     if sc.adhesion.model != "none":
         fail("adhesion.model", "a two-scale run takes a non-adhesive interface; adhesive interface laws are not "
                                "available yet: run the whole grid")
@@ -199,11 +200,33 @@ def _normal_state(pb, settings, force):
     return law, res, range_info
 
 
+def window_menisci(pb, settings: SolverSettings) -> list | None:
+    """The windows' menisci at the run's RH (``[humidity] rh``, one value): per realisation its
+    two films (levelled on the window's own surfaces) and the capillary model's options, as the
+    whole-grid humid kinds make them (:func:`tribobem.runs.capillary.films_at`,
+    :func:`~tribobem.runs.capillary.capillary_options`); None without ``[humidity]``."""
+    from types import SimpleNamespace
+
+    from .capillary import capillary_options, films_at
+
+    w = pb.two_scale
+    if pb.humidity is None or w.humidity is None:
+        return None
+    rh = float(pb.humidity.rh[0])
+    out = []
+    for hs in w.humidity:
+        window = SimpleNamespace(humidity=hs, grid=w.grid, interaction=pb.interaction, scenario=pb.scenario)
+        f1, f2 = films_at(window, rh, settings.film_tolerance)
+        out.append({"film1": f1.thickness, "film2": f2.thickness, "options": capillary_options(window, rh, settings)})
+    return out
+
+
 def _tangential_setup(pb, bar, settings):
     """The macro normal state and the windows' slip law of a two-scale tangential run."""
     sc = pb.scenario
     ts = sc.two_scale
     mu = float(sc.friction.coefficient)
+    pb.two_scale.capillary = window_menisci(pb, settings)
     bar.phase("micro windows (normal)", 1)
     law, res, range_info = _normal_state(pb, settings, float(sc.load.force))
     bar(1, 1)
@@ -215,7 +238,27 @@ def _tangential_setup(pb, bar, settings):
     except ValueError as exc:
         raise InputError("two_scale", f"the windows' slip table cannot be built: {exc}") from None
     bar(1, 1)
+    if slip_law.capacities is not None and law.menisci is not None:
+        # one repulsive pressure for the friction bound and the reported F0+: the normal table's
+        # (finer in p than the slip table's own, the same windows and menisci)
+        slip_law.capacity_pressures = law.pressures.copy()
+        slip_law.capacities = mu * np.asarray(law.menisci["repulsive_pressures"], float)
     return law, res, range_info, slip_law
+
+
+def _static_and_menisci(pb, law, res, slip_law, mu: float) -> tuple[float, dict]:
+    """The burl's static friction (N: every window slides at its capacity, mu p dry, mu times its
+    repulsive pressure with menisci) and, with menisci, the macro sums of the windows'
+    repulsive and meniscus forces (N) and wetted area (m^2) over the loaded cells."""
+    if slip_law.capacities is None:
+        return mu * res.force, {}
+    dA = pb.grid.dx * pb.grid.dy
+    loaded = res.pressure > 0
+    p = np.where(loaded, res.pressure, 0.0)
+    static = float(np.sum(np.where(loaded, slip_law.capacity(np.where(loaded, p, 1.0)), 0.0))) * dA
+    return static, {"repulsive_force": float(np.sum(law.meniscus("repulsive_pressures", p))) * dA,
+                    "capillary_force": float(np.sum(law.meniscus("capillary_pressures", p))) * dA,
+                    "wetted_area": float(np.sum(law.meniscus("wetted_fractions", p))) * dA}
 
 
 def _slip_messages(slip_law) -> list:
@@ -270,7 +313,7 @@ def run_partial_slip(pb, bar, settings: SolverSettings) -> RunOutput:
     fr = sc.friction
     mu = float(fr.coefficient)
     law, res, range_info, slip_law = _tangential_setup(pb, bar, settings)
-    static = mu * res.force
+    static, menisci = _static_and_menisci(pb, law, res, slip_law, mu)
     if fr.tangential_forces == "auto" or fr.tangential_forces is None:
         forces = [f * static for f in AUTO_FRACTIONS]
     else:
@@ -295,6 +338,7 @@ def run_partial_slip(pb, bar, settings: SolverSettings) -> RunOutput:
         row["slip_area"] = (1.0 - r.stick_ratio) * res.real_contact_area
         row["branch"] = "ramp"
         row["converged"] = bool(res.converged and r.converged)
+        row.update(menisci)
         rows.append(row)
         results.append(state)
         tangential.append(t)
@@ -316,8 +360,10 @@ def run_partial_slip(pb, bar, settings: SolverSettings) -> RunOutput:
            "presliding_displacement": float(dx[-1]) if dx.size else None,
            "displacement_at_half_static_friction": displacement_at(0.5),
            "displacement_at_0p9_static_friction": displacement_at(0.9),
-           "repulsive_force": res.force, "adhesive_force": 0.0,
+           "repulsive_force": res.force, "adhesive_force": 0.0, **menisci,
            "two_scale": {**range_info, "law": law.as_dict(), "slip_law": slip_law.as_dict()}}
+    if menisci:
+        run["rh"] = float(pb.humidity.rh[0])
     if len(solvable) < len(forces):
         messages.append(f"two_scale: {len(forces) - len(solvable)} tangential force(s) at or above "
                         f"{slip_law.max_fraction:g} mu F = {limit:.4g} N were not solved: the burl slides as a whole at "
@@ -356,7 +402,7 @@ def run_hysteresis(pb, bar, settings: SolverSettings) -> RunOutput:
     path_spec = fr.path
     mu = float(fr.coefficient)
     law, res, range_info, slip_law = _tangential_setup(pb, bar, settings)
-    static = mu * res.force
+    static, menisci = _static_and_menisci(pb, law, res, slip_law, mu)
     amplitude = float(path_spec.amplitude if path_spec.amplitude is not None else 0.999)
     if amplitude >= slip_law.max_fraction:
         raise InputError("friction.path.amplitude", f"a two-scale loop needs F* below the slip table's largest "
@@ -376,7 +422,7 @@ def run_hysteresis(pb, bar, settings: SolverSettings) -> RunOutput:
         row.update(stick_ratio=st.stick_ratio, stick_area=st.stick_ratio * res.real_contact_area,
                    slip_area=(1.0 - st.stick_ratio) * res.real_contact_area, cycle=int(cycle), branch=branch,
                    force_ratio=st.force / static if static > 0 else float("nan"),
-                   converged=bool(res.converged and st.converged))
+                   converged=bool(res.converged and st.converged), **menisci)
         rows.append(row)
         results.append(state)
         tangential.append(t)
@@ -384,6 +430,7 @@ def run_hysteresis(pb, bar, settings: SolverSettings) -> RunOutput:
     D = [r["displacement_x"] for r in rows]
     C = [r["cycle"] for r in rows]
     run = {"friction_coefficient": mu, "control": "force", "repulsive_force": res.force, "adhesive_force": 0.0,
+           **menisci,
            "peak_force": amplitude * static, "dissipated_energy": loop_energies(F, D, C),
            "dissipation_work": loop.dissipation, "failed_steps": [i for i, r in enumerate(rows) if not r["converged"]],
            "static_friction_force": static, "static_friction_ratio": 1.0,

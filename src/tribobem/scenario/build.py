@@ -649,21 +649,26 @@ def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warn
                          "windows hold the roughness")
     gaps = []
     first: dict = {}  # each body's roughness in the first window, for the summary's statistics
+    surfaces = []
     for k in range(realisations):
-        topo = np.zeros(wgrid.shape)
+        own = {}
         for name, spec in specs.items():
+            surf = np.zeros(wgrid.shape)
             if name in tiles:
-                topo = topo + tiles[name][k]
+                surf = surf + tiles[name][k]
                 first.setdefault(name, (tiles[name][k], wgrid))
             elif spec.kind != "none":
                 seeded = spec.model_copy(update={"seed": int(spec.seed or 0) + k})
                 rough = _roughness(seeded, wgrid, f"{name}.roughness", None, {}, [])
-                topo = topo + rough
+                surf = surf + rough
                 first.setdefault(name, (rough, wgrid))
             tex = getattr(sc, name).texture
             if tex is not None and texture_fits_window(tex.pitch, ts.window):
-                topo = topo + geo.texture(wgrid, tex.kind, tex.pitch, tex.size, tex.depth, tex.angle,
+                surf = surf + geo.texture(wgrid, tex.kind, tex.pitch, tex.size, tex.depth, tex.angle,
                                           key=f"{name}.texture")
+            own[name] = surf
+        topo = own["body1"] + own["body2"]
+        surfaces.append((own["body1"], own["body2"]))
         gaps.append(topo.max() - topo)  # gap = -(topography1 + topography2), shifted to min 0
     short = [f"{n}.texture" for n in ("body1", "body2") if getattr(sc, n).texture is not None
              and texture_fits_window(getattr(sc, n).texture.pitch, ts.window)]
@@ -671,7 +676,10 @@ def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warn
              "realisations": int(realisations), "measured": sorted(tiles), "macro_dx": float(grid.dx),
              "seeds": [int(getattr(specs[n], "seed", None) or 0) for n in ("body1", "body2")], "window_textures": short}
     info["two_scale"] = winfo
-    windows = MicroWindows(wgrid, pair, gaps, interaction, dict(winfo))
+    windows = MicroWindows(wgrid, pair, gaps, interaction, dict(winfo), surfaces=surfaces)
+    if sc.humidity is not None:  # each window's own water films rest on its own two surfaces
+        zero = np.zeros(wgrid.shape)
+        windows.humidity = [humidity_setup(sc, zero, zero, s1, s2) for s1, s2 in surfaces]
     windows.info["roughness_of"] = {n: r for n, (r, _) in first.items()}
     # a measured scan's wavelengths longer than the window: part of the macro geometry
     windows.info["macro_roughness"] = {n: lt for n, (_, lt) in split.items()}

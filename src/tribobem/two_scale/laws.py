@@ -63,6 +63,10 @@ class NormalInterfaceLaw:
         Equivalent diameter (cells) of the largest contact patch of the windows at each
         pressure (the largest over the realisations): whether the windows resolve their
         asperity contacts (>= 3 cells).
+    menisci : dict, optional
+        With menisci at one RH: ``repulsive_pressures`` and ``capillary_pressures`` (Pa, the
+        windows' mean repulsive and meniscus pressures, the latter negative) and
+        ``wetted_fractions`` at each pressure (means over the realisations).
     """
 
     pressures: np.ndarray
@@ -76,6 +80,7 @@ class NormalInterfaceLaw:
     converged: bool = True
     info: dict = field(default_factory=dict)
     patch_cells: np.ndarray | None = None
+    menisci: dict | None = None
 
     def __post_init__(self):
         self.pressures = np.asarray(self.pressures, dtype=float)
@@ -174,6 +179,20 @@ class NormalInterfaceLaw:
         out[inside] = np.exp(self._pmax(np.log(p[inside])))
         return out
 
+    def meniscus(self, key: str, p):
+        """A meniscus column (``repulsive_pressures``, ``capillary_pressures``: Pa;
+        ``wetted_fractions``) at nominal pressures ``p`` (Pa): linear in ln p on the table, its
+        ratio to p held below and above it; 0 where p <= 0.  Dry: p, 0 and 0."""
+        p = np.asarray(p, dtype=float)
+        if self.menisci is None:
+            return p.copy() if key == "repulsive_pressures" else np.zeros_like(p)
+        col = np.asarray(self.menisci[key], float)
+        if key == "wetted_fractions":
+            vals = np.interp(np.log(np.maximum(p, 1e-300)), self._lnp, col)
+        else:
+            vals = np.interp(np.log(np.maximum(p, 1e-300)), self._lnp, col / self.pressures) * p
+        return np.where(p > 0, vals, 0.0)
+
     def patch_cells_at(self, p: float) -> float | None:
         """The windows' largest contact patch (equivalent diameter, cells) at nominal pressure
         ``p`` (Pa): the tabulated value at the nearest pressure at or below ``p``; None without."""
@@ -196,6 +215,7 @@ class NormalInterfaceLaw:
             "fraction_spread": np.asarray(self.fraction_spread, float).tolist(),
             "realisations": int(self.realisations), "converged": bool(self.converged), "info": dict(self.info),
             "patch_cells": None if self.patch_cells is None else np.asarray(self.patch_cells, float).tolist(),
+            "menisci": self.menisci,
         }
 
     @classmethod
@@ -203,7 +223,7 @@ class NormalInterfaceLaw:
         """The inverse of :meth:`as_dict`."""
         return cls(**{k: d[k] for k in ("pressures", "gaps", "touch_gap", "contact_fractions", "max_pressures",
                                         "gap_spread", "fraction_spread", "realisations", "converged", "info")},
-                   patch_cells=d.get("patch_cells"))
+                   patch_cells=d.get("patch_cells"), menisci=d.get("menisci"))
 
     @classmethod
     def from_realisations(cls, pressures, tables: list[dict], info: dict | None = None) -> "NormalInterfaceLaw":
@@ -228,4 +248,7 @@ class NormalInterfaceLaw:
                    gap_spread=gaps.std(axis=0), fraction_spread=frac.std(axis=0), realisations=len(tables),
                    converged=bool(all(np.all(t["converged"]) for t in tables)), info=dict(info or {}),
                    patch_cells=(np.array([t["patch_cells"] for t in tables], dtype=float).max(axis=0)
-                                if all("patch_cells" in t for t in tables) else None))
+                                if all("patch_cells" in t for t in tables) else None),
+                   menisci=({k: np.mean([t[k] for t in tables], axis=0).tolist()
+                             for k in ("repulsive_pressures", "capillary_pressures", "wetted_fractions")}
+                            if all("repulsive_pressures" in t for t in tables) else None))

@@ -62,6 +62,15 @@ class MicroWindows:
     info : dict
         How the windows were made (window size, cells, seeds, which textures went to the
         windows), for the summary.
+    surfaces : list of (ndarray, ndarray), optional
+        Per realisation, the two bodies' own surfaces in the window (m, positive out of each
+        body): what their water films rest on.
+    capillary : list of dict, optional
+        Per realisation, its menisci at one RH (``film1``, ``film2``, ``options``:
+        :func:`window_table`); None: dry.
+    humidity : list, optional
+        Per realisation, the humidity setup of its surfaces (a scenario with ``[humidity]``),
+        from which a run makes :attr:`capillary` at its RH.
     """
 
     grid: Grid
@@ -69,6 +78,24 @@ class MicroWindows:
     gaps: list
     interaction: Any = None
     info: dict = field(default_factory=dict)
+    surfaces: list | None = None
+    capillary: list | None = None
+    humidity: list | None = None
+
+    def capillary_of(self, k: int):
+        """Realisation ``k``'s menisci (``film1``, ``film2``, ``options``) or None (dry)."""
+        return None if self.capillary is None else self.capillary[k]
+
+    def capillary_key(self, k: int) -> dict:
+        """What sets realisation ``k``'s menisci, for the cache key (empty when dry)."""
+        c = self.capillary_of(k)
+        if c is None:
+            return {}
+        h = hashlib.sha256()
+        for f in (c["film1"], c["film2"]):
+            h.update(np.ascontiguousarray(np.broadcast_to(f, self.grid.shape), dtype=np.float64).tobytes())
+        opts = {key: repr(v) for key, v in sorted(c["options"].items())}
+        return {"capillary": h.hexdigest() + json.dumps(opts, sort_keys=True)}
 
 
 def default_cache_dir() -> Path:
@@ -93,7 +120,47 @@ def table_key(grid: Grid, pair: ContactPair, gap: np.ndarray, interaction, press
     return h.hexdigest()
 
 
-def window_table(grid: Grid, pair: ContactPair, gap: np.ndarray, pressures, *, interaction=None,
+def window_states(op, gap: np.ndarray, pressures, *, interaction=None, capillary=None, tol: float = 1e-8,
+                  max_iterations: int = 10000) -> tuple[list, list]:
+    """A window pressed through a ladder of nominal pressures, warm-started step to step.
+
+    Dry (or with a plain stress law): :func:`tribobem.solvers.normal_paths.force_curve`.  With
+    ``capillary`` (the window's films and the capillary model's options at one RH): the
+    self-consistent meniscus state at each pressure (:func:`tribobem.solvers.capillary.
+    solve_capillary`), each from the one before.
+
+    Returns
+    -------
+    (list of NormalResult, list of dict)
+        The states, and per state ``converged``, ``iterations`` and, with menisci,
+        ``repulsive_force``, ``capillary_force`` (N) and ``wetted_area`` (m^2).
+    """
+    grid = op.grid
+    area = grid.lx * grid.ly
+    forces = [float(p) * area for p in pressures]
+    if capillary is None:
+        curve = force_curve(op, gap, forces, interaction=interaction, unload=False, tol=tol,
+                            max_iterations=max_iterations, keep_fields=True)
+        steps = list(curve.steps)
+        if len(steps) != len(forces):
+            raise InputError("two_scale.pressures", f"the window solved {len(steps)} of {len(forces)} pressures")
+        return list(curve.results), [{"converged": bool(s["converged"]), "iterations": int(s["iterations"])}
+                                     for s in steps]
+    from ..solvers.capillary import solve_capillary
+
+    states, extra, prev = [], [], None
+    for f in forces:
+        r = solve_capillary(op, gap, normal_force=f, film1=capillary["film1"], film2=capillary["film2"], tol=tol,
+                            max_iterations=max_iterations, initial=prev, **capillary["options"])
+        prev = r
+        states.append(r.normal)
+        extra.append({"converged": bool(r.converged), "iterations": int(r.normal.iterations),
+                      "repulsive_force": float(r.repulsive_force), "capillary_force": float(r.capillary_force),
+                      "wetted_area": float(r.wetted_area)})
+    return states, extra
+
+
+def window_table(grid: Grid, pair: ContactPair, gap: np.ndarray, pressures, *, interaction=None, capillary=None,
                  tol: float = 1e-8, max_iterations: int = 10000) -> dict:
     """One window's table: mean gap, contact fraction and peak pressure at each pressure.
 
@@ -109,6 +176,10 @@ def window_table(grid: Grid, pair: ContactPair, gap: np.ndarray, pressures, *, i
         Nominal pressures (Pa), increasing.
     interaction : Interaction, optional
         Stress law outside contact.
+    capillary : dict, optional
+        Menisci at one RH: ``film1``, ``film2`` (m, the films on the window's two surfaces) and
+        ``options`` (the remaining keyword arguments of :func:`tribobem.solvers.capillary.
+        solve_capillary`: Kelvin radius, capillary pressure, ...).
     tol, max_iterations : float, int
         Normal solver settings of every step.
 
@@ -117,27 +188,30 @@ def window_table(grid: Grid, pair: ContactPair, gap: np.ndarray, pressures, *, i
     dict
         ``gaps`` (m), ``touch_gap`` (m: the mean gap at first touch), ``contact_fractions``,
         ``max_pressures`` (Pa), ``patch_cells`` (the largest contact patch's equivalent
-        diameter in cells), ``converged`` and ``iterations`` (per pressure).
+        diameter in cells), ``converged`` and ``iterations`` (per pressure); with menisci also
+        ``repulsive_pressures`` and ``capillary_pressures`` (Pa: the window's mean repulsive
+        and meniscus pressures, the latter negative) and ``wetted_fractions``.
     """
     op = periodic_operator(grid, pair)
     area = grid.lx * grid.ly
-    forces = [float(p) * area for p in pressures]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)  # carried in ``converged``
-        curve = force_curve(op, gap, forces, interaction=interaction, unload=False, tol=tol,
-                            max_iterations=max_iterations, keep_fields=True)
-    steps = list(curve.steps)
-    if len(steps) != len(forces):
-        raise InputError("two_scale.pressures", f"the window solved {len(steps)} of {len(forces)} pressures")
-    return {
-        "patch_cells": [_largest_patch_cells(np.asarray(r.contact)) for r in curve.results],
-        "gaps": [float(s["mean_gap"]) for s in steps],
+        states, extra = window_states(op, gap, pressures, interaction=interaction, capillary=capillary, tol=tol,
+                                      max_iterations=max_iterations)
+    out = {
+        "patch_cells": [_largest_patch_cells(np.asarray(r.contact)) for r in states],
+        "gaps": [float(r.mean_gap) for r in states],
         "touch_gap": float(np.mean(gap)),
-        "contact_fractions": [float(s["contact_area"]) / area for s in steps],
-        "max_pressures": [float(s["max_pressure"]) for s in steps],
-        "converged": [bool(s["converged"]) for s in steps],
-        "iterations": [int(s["iterations"]) for s in steps],
+        "contact_fractions": [float(r.contact_area) / area for r in states],
+        "max_pressures": [float(r.max_pressure) for r in states],
+        "converged": [e["converged"] for e in extra],
+        "iterations": [e["iterations"] for e in extra],
     }
+    if capillary is not None:
+        out["repulsive_pressures"] = [e["repulsive_force"] / area for e in extra]
+        out["capillary_pressures"] = [e["capillary_force"] / area for e in extra]
+        out["wetted_fractions"] = [e["wetted_area"] / area for e in extra]
+    return out
 
 
 def _largest_patch_cells(contact: np.ndarray) -> float:
@@ -235,11 +309,14 @@ def interface_law(windows: MicroWindows, pressures, *, tol: float = 1e-8, max_it
     if pressures.ndim != 1 or pressures.size < 3 or not np.all(np.diff(pressures) > 0) or pressures[0] <= 0:
         raise InputError("two_scale.pressures", "the table needs at least 3 increasing positive pressures")
     tasks = [(window_table, {"grid": windows.grid, "pair": windows.pair, "gap": g, "pressures": pressures,
-                             "interaction": windows.interaction, "tol": tol, "max_iterations": max_iterations},
-              table_key(windows.grid, windows.pair, g, windows.interaction, pressures, tol, max_iterations))
-             for g in windows.gaps]
+                             "interaction": windows.interaction, "capillary": windows.capillary_of(k), "tol": tol,
+                             "max_iterations": max_iterations},
+              table_key(windows.grid, windows.pair, g, windows.interaction, pressures, tol, max_iterations,
+                        **windows.capillary_key(k)))
+             for k, g in enumerate(windows.gaps)]
     tables = compute_tables(tasks, cache, cache_dir, scheduler)
     info = dict(windows.info)
+    info["capillary"] = windows.capillary is not None
     info.update({"cached": int(sum(t.get("cached", False) for t in tables)),
                  "iterations": int(sum(sum(t["iterations"]) for t in tables)),
                  "not_converged": int(sum(len(t["converged"]) - sum(t["converged"]) for t in tables)),

@@ -45,7 +45,6 @@ import numpy as np
 
 from ..elasticity.operators import periodic_operator
 from ..errors import ConvergenceWarning, InputError
-from ..solvers.normal_paths import force_curve
 from ..solvers.tangential import GrossSlipError, solve_tangential
 from .macro import _cg, _self_compliance
 
@@ -57,7 +56,7 @@ SLIP_FRACTIONS = (0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 0.98,
 
 
 def window_slip_table(grid, pair, gap, pressures, friction_coefficient: float, *, fractions=SLIP_FRACTIONS,
-                      interaction=None, tol: float = 1e-8, max_iterations: int = 10000) -> dict:
+                      interaction=None, capillary=None, tol: float = 1e-8, max_iterations: int = 10000) -> dict:
     """One window's slip table: its rigid tangential displacement at tau = f mu p.
 
     Parameters
@@ -76,26 +75,34 @@ def window_slip_table(grid, pair, gap, pressures, friction_coefficient: float, *
         f in (0, 1), increasing.
     interaction : Interaction, optional
         Stress law outside contact (normal solves).
+    capillary : dict, optional
+        The window's menisci at one RH (``film1``, ``film2``, ``options``: see
+        :func:`tribobem.two_scale.micro.window_table`); the shear acts on the contact, whose
+        capacity is mu times its repulsive force (menisci included).
     tol, max_iterations : float, int
         Normal and tangential solver settings.
 
     Returns
     -------
     dict
-        ``slips`` (m, shape (pressures, fractions)), ``stick_ratios`` (same shape), ``converged``.
+        ``slips`` (m, shape (pressures, fractions)), ``stick_ratios`` (same shape), ``converged``,
+        ``capacities`` (Pa: mu times the window's mean repulsive pressure, per pressure).
     """
+    from .micro import window_states
+
     op = periodic_operator(grid, pair, components=("x", "y", "z"))
-    area = grid.lx * grid.ly
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
-        curve = force_curve(op, gap, [float(p) * area for p in pressures], interaction=interaction, unload=False,
-                            tol=tol, max_iterations=max_iterations, keep_fields=True)
+        states, _ = window_states(op, gap, pressures, interaction=interaction, capillary=capillary, tol=tol,
+                                  max_iterations=max_iterations)
         slips = np.full((len(pressures), len(fractions)), np.nan)
         stick = np.full_like(slips, np.nan)
         ok = np.ones_like(slips, dtype=bool)
-        for i, state in enumerate(curve.results):
+        caps = []
+        for i, state in enumerate(states):
             shear = None
             capacity = friction_coefficient * float(np.sum(np.clip(state.pressure, 0, None))) * grid.dx * grid.dy
+            caps.append(capacity / (grid.lx * grid.ly))
             for j, f in enumerate(fractions):
                 try:
                     t = solve_tangential(op, state.pressure, state.contact, friction_coefficient=friction_coefficient,
@@ -108,7 +115,7 @@ def window_slip_table(grid, pair, gap, pressures, friction_coefficient: float, *
                 stick[i, j] = t.stick_ratio
                 ok[i, j] = bool(t.converged)
                 shear = t.shear
-    return {"slips": slips.tolist(), "stick_ratios": stick.tolist(), "converged": ok.tolist()}
+    return {"slips": slips.tolist(), "stick_ratios": stick.tolist(), "converged": ok.tolist(), "capacities": caps}
 
 
 @dataclass
@@ -125,6 +132,9 @@ class TangentialInterfaceLaw:
         Mean over the realisations of the windows' tangential displacement (m).
     stick_ratios : ndarray, shape (m, k)
         Mean stick fraction of the windows' real contact area.
+    capacities, capacity_pressures : ndarray, optional
+        With menisci: the windows' sliding shear mu p_rep (Pa) at these nominal pressures (Pa);
+        the fractions are of it.  None: dry, mu p.
     friction_coefficient : float
         mu.
     slip_spread : ndarray, shape (m, k)
@@ -142,10 +152,16 @@ class TangentialInterfaceLaw:
     converged: bool = True
     realisations: int = 1
     info: dict = field(default_factory=dict)
+    capacities: np.ndarray | None = None
+    capacity_pressures: np.ndarray | None = None
 
     def __post_init__(self):
         self.pressures = np.asarray(self.pressures, float)
         self.fractions = np.asarray(self.fractions, float)
+        if self.capacities is not None:
+            self.capacities = np.asarray(self.capacities, float)
+            self.capacity_pressures = np.asarray(self.pressures if self.capacity_pressures is None
+                                                 else self.capacity_pressures, float)
         self.slips = np.asarray(self.slips, float)
         if not np.all(np.isfinite(self.slips)):
             raise ValueError("the slip table has missing entries (a window slid before tau = mu p)")
@@ -169,11 +185,22 @@ class TangentialInterfaceLaw:
         w = (x - self._lnp[i]) / (self._lnp[i + 1] - self._lnp[i])
         return i, w
 
+    def capacity(self, p):
+        """The windows' sliding shear at nominal pressures ``p`` (Pa): mu p, or with menisci mu
+        times the repulsive pressure (``capacities`` at ``capacity_pressures``, their ratio to p
+        linear in ln p and held beyond the table)."""
+        p = np.asarray(p, float)
+        if self.capacities is None:
+            return self.friction_coefficient * p
+        ratio = np.interp(np.log(np.maximum(p, 1e-300)), np.log(self.capacity_pressures),
+                          self.capacities / self.capacity_pressures)
+        return ratio * p
+
     def _cell(self, tau, p):
-        """Bilinear interpolation indices of (f = tau/(mu p), ln p): rows i, i+1 (weight w), columns
-        j, j+1 (weight u), the column width df and the capacity mu p."""
+        """Bilinear interpolation indices of (f = tau/capacity, ln p): rows i, i+1 (weight w), columns
+        j, j+1 (weight u), the column width df and the capacity (mu p dry)."""
         i, w = self._row(p)
-        cap = self.friction_coefficient * p
+        cap = self.capacity(p)
         f = np.clip(tau / np.maximum(cap, 1e-300), 0.0, self._f[-1])
         j = np.clip(np.searchsorted(self._f, f, side="right") - 1, 0, self._f.size - 2)
         df = self._f[j + 1] - self._f[j]
@@ -206,17 +233,22 @@ class TangentialInterfaceLaw:
         return {"pressures": self.pressures.tolist(), "fractions": self.fractions.tolist(),
                 "slips": self.slips.tolist(), "stick_ratios": np.asarray(self.stick_ratios).tolist(),
                 "slip_spread": np.asarray(self.slip_spread).tolist(), "friction_coefficient": self.friction_coefficient,
-                "converged": bool(self.converged), "realisations": int(self.realisations), "info": dict(self.info)}
+                "converged": bool(self.converged), "realisations": int(self.realisations), "info": dict(self.info),
+                "capacities": None if self.capacities is None else self.capacities.tolist(),
+                "capacity_pressures": None if self.capacities is None else self.capacity_pressures.tolist()}
 
     @classmethod
     def from_realisations(cls, pressures, fractions, friction_coefficient, tables, info=None):
         """Average per-realisation tables of :func:`window_slip_table`."""
         slips = np.array([t["slips"] for t in tables], float)
         stick = np.array([t["stick_ratios"] for t in tables], float)
+        # with menisci the windows slide at mu times their repulsive pressure (dry: mu p, the default)
+        caps = (np.mean([t["capacities"] for t in tables], axis=0)
+                if (info or {}).get("capillary") and all(t.get("capacities") for t in tables) else None)
         return cls(pressures=np.asarray(pressures, float), fractions=np.asarray(fractions, float),
                    slips=slips.mean(axis=0), stick_ratios=stick.mean(axis=0), friction_coefficient=friction_coefficient,
                    slip_spread=slips.std(axis=0), converged=bool(all(np.all(t["converged"]) for t in tables)),
-                   realisations=len(tables), info=dict(info or {}))
+                   realisations=len(tables), info=dict(info or {}), capacities=caps)
 
 
 def interface_slip_law(windows, pressures, friction_coefficient: float, *, fractions=SLIP_FRACTIONS,
@@ -246,12 +278,14 @@ def interface_slip_law(windows, pressures, friction_coefficient: float, *, fract
     pressures = np.asarray(pressures, float)
     tasks = [(window_slip_table, {"grid": windows.grid, "pair": windows.pair, "gap": g, "pressures": pressures,
                                   "friction_coefficient": float(friction_coefficient), "fractions": tuple(fractions),
-                                  "interaction": windows.interaction, "tol": tol, "max_iterations": max_iterations},
+                                  "interaction": windows.interaction, "capillary": windows.capillary_of(k), "tol": tol,
+                                  "max_iterations": max_iterations},
               table_key(windows.grid, windows.pair, g, windows.interaction, pressures, tol, max_iterations,
-                        kind="slip", friction_coefficient=float(friction_coefficient), fractions=list(fractions)))
-             for g in windows.gaps]
+                        kind="slip", friction_coefficient=float(friction_coefficient), fractions=list(fractions),
+                        **windows.capillary_key(k)))
+             for k, g in enumerate(windows.gaps)]
     tables = compute_tables(tasks, cache, cache_dir, scheduler)
-    info = {"cached": int(sum(t.get("cached", False) for t in tables)),
+    info = {"capillary": windows.capillary is not None, "cached": int(sum(t.get("cached", False) for t in tables)),
             "not_converged": int(sum(int(np.size(t["converged"]) - np.sum(t["converged"])) for t in tables)),
             "solves": int(sum(np.size(t["converged"]) for t in tables))}
     return TangentialInterfaceLaw.from_realisations(pressures, fractions, float(friction_coefficient), tables, info)
@@ -338,7 +372,7 @@ def solve_interface_tangential(operator, pressure, law: TangentialInterfaceLaw, 
     p = np.asarray(pressure, float)
     dA = op.grid.dx * op.grid.dy
     loaded = p > 0
-    cap = law.friction_coefficient * np.where(loaded, p, 0.0)
+    cap = np.where(loaded, law.capacity(np.where(loaded, p, 1.0)), 0.0)
     top = law.max_fraction * cap
     if limit is not None:
         top = np.where(loaded, np.clip(np.asarray(limit, float), 0.0, top), 0.0)
@@ -467,7 +501,7 @@ def interface_loop(operator, pressure, law: TangentialInterfaceLaw, values, turn
     p = np.asarray(pressure, float)
     loaded = p > 0
     dA = op.grid.dx * op.grid.dy
-    top = law.max_fraction * law.friction_coefficient * np.where(loaded, p, 0.0)
+    top = law.max_fraction * np.where(loaded, law.capacity(np.where(loaded, p, 1.0)), 0.0)
     values = np.asarray(values, float)
     # the turn a branch starts from: force, shear, displacement, direction, factor (1: virgin)
     F_r, tau_r, d_r, sgn, c = 0.0, np.zeros_like(p), 0.0, 1.0, 1.0

@@ -131,7 +131,7 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
     "rounded_punch": "full", "flat_punch": "full", "burl_stiffness": "full", "kendall": "full", "texture_cell": "full",
     # two_scale (seconds: the whole burls' numbers are committed, only the two-scale side runs)
     "two_scale_smooth": "full", "two_scale_layer": "full", "two_scale_whole_burl": "full",
-    "two_scale_partial_slip": "full", "two_scale_hysteresis": "full",
+    "two_scale_partial_slip": "full", "two_scale_hysteresis": "full", "two_scale_humid": "full",
 }
 
 

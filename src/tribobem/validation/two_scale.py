@@ -19,6 +19,11 @@
     K_L at A, B, C within 10 % (or the realisations' scatter); the interface's own frictional work
     equal to the loop energy; and Masing's loop of one window against the window's own coupled
     loop (energy within 10 %).
+``two_scale_humid``
+    The small rough burl at RH 0.5 (Si and SiO2 films, meniscus forces): windows solved with
+    their menisci give the humid interface laws (the window slides at mu times its repulsive
+    pressure); against whole-burl humid ramps (:data:`WHOLE_BURL_HUMID`): F0+ and static friction
+    within 3 %, the meniscus force within 5 %, the displacements at 0.5 and 0.9 F_s within 10 %.
 ``two_scale_whole_burl``
     A rough SiC burl on a Si wafer (Gaussian roughness 1.5 nm rms, 50 nm correlation length,
     about 53 MPa over the flat top) solved whole at 10 nm cells (:data:`WHOLE_BURLS`: four
@@ -48,8 +53,8 @@ from ..two_scale.micro import MicroWindows, interface_law
 from ..two_scale.tangential import interface_loop, interface_slip_law, solve_interface_tangential, window_loop_check
 from .common import ValidationRow, _row
 
-__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "WHOLE_BURL_SLIP", "WHOLE_BURL_LOOP", "PAIR", "RMS", "CORRELATION", "MU",
-           "two_scale_burl", "two_scale_burl_slip", "two_scale_burl_loop"]
+__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "WHOLE_BURL_SLIP", "WHOLE_BURL_LOOP", "WHOLE_BURL_HUMID", "PAIR", "RMS",
+           "CORRELATION", "MU", "two_scale_burl", "two_scale_burl_slip", "two_scale_burl_loop", "two_scale_burl_humid"]
 
 #: The validation pair: Si wafer (body 1, rough) and SiC burl (body 2).
 PAIR = ContactPair(Material(130e9, 0.28), Material(410e9, 0.14))
@@ -86,6 +91,19 @@ QUICK_N = 512
 
 #: Friction coefficient of the partial-slip validation.
 MU = 0.2
+
+#: Whole-burl humid ramps of the small burl at RH 0.5 (``kind = "partial_slip"`` with ``[humidity]
+#: rh = 0.5``, Si and SiO2 films, meniscus forces without van der Waals, mu = 0.2, ``tangential_forces
+#: = "auto"``; ``python -m studies.two_scale --whole-humid``, 2026-12-02): static friction (N), the
+#: repulsive force F0+ and the meniscus force (N) at zero tangential load, the tangential
+#: displacement (m) at 0.5 and 0.9 of the static friction, per roughness seed.  "n512": 20 nm cells
+#: (35 s of CPU each).
+WHOLE_BURL_HUMID: dict = {
+    "n512": {"seeds": [100, 101], "static_friction_force": [7.112339832e-04, 7.103736603e-04],
+             "repulsive_force": [3.561264229e-03, 3.555182607e-03],
+             "capillary_force": [-2.059556923e-03, -2.053905527e-03], "d50": [7.380935420e-10, 7.387992569e-10],
+             "d90": [1.480073261e-09, 1.489881283e-09]},
+}
 
 #: The friction loops of the hysteresis validation: F* = 0.8 mu F, 24 steps per cycle.
 LOOP_AMPLITUDE, LOOP_STEPS = 0.8, 24
@@ -296,6 +314,51 @@ def _loop_rows(quick: bool) -> list[ValidationRow]:
     return rows
 
 
+def two_scale_burl_humid(name: str = "small", *, window: float = 1e-6, window_n: int | None = None,
+                         realisations: int = 4, macro_n: int = 128, rh: float = 0.5) -> dict:
+    """The two-scale humid ramp of validation burl ``name`` at ``rh`` from a scenario (the films and
+    the capillary model are the scenario's, as a user runs it)."""
+    from ..scenario import parse_scenario, run_scenario
+
+    b = BURLS[name]
+    if window_n is None:
+        window_n = int(round(window / (b["size"] / b["n"])))
+    sc = {"kind": "partial_slip", "grid": {"n": macro_n, "size": b["size"]},
+          "body1": {"E": PAIR.body1.E, "nu": PAIR.body1.nu, "film": {"isotherm": "Si"},
+                    "roughness": {"kind": "gaussian", "rms": RMS, "correlation_length": CORRELATION}},
+          "body2": {"E": PAIR.body2.E, "nu": PAIR.body2.nu, "film": {"isotherm": "SiO2"},
+                    "shape": {"kind": "burl", "radius": b["radius"], "edge_radius": b["edge_radius"]}},
+          "load": {"force": b["force"]}, "friction": {"coefficient": MU, "tangential_forces": [0.0]},
+          "humidity": {"rh": rh, "van_der_waals": False},
+          "two_scale": {"window": window, "window_n": window_n, "realisations": realisations, "cache": False}}
+    t = time.process_time()
+    # the static friction and F0+ first; then the ramp at 0.5 and 0.9 of it
+    first = run_scenario(parse_scenario(sc), outdir=None, progress=False, warn=False).summary
+    fs = first["static_friction_force"]
+    sc["friction"]["tangential_forces"] = [0.0, 0.5 * fs, 0.9 * fs]
+    s = run_scenario(parse_scenario(sc), outdir=None, progress=False, warn=False).summary
+    d = [r["displacement_x"] for r in s["steps"]]
+    return {"static_friction_force": fs, "repulsive_force": s["repulsive_force"], "capillary_force": s["capillary_force"],
+            "d50": d[1] - d[0], "d90": d[2] - d[0], "converged": bool(first["converged"] and s["converged"]),
+            "cpu_s": time.process_time() - t}
+
+
+def _humid_rows(quick: bool) -> list[ValidationRow]:
+    case = "two_scale_humid"
+    key = "n512" if quick or "n1024" not in WHOLE_BURL_HUMID else "n1024"
+    ref = WHOLE_BURL_HUMID[key]
+    ts = two_scale_burl_humid("small", window_n=50 if key == "n512" else 100)
+    rows = []
+    for q, label, tol in (("repulsive_force", "repulsive force F0+ at RH 0.5 (N)", 0.03),
+                          ("capillary_force", "meniscus force at RH 0.5 (N)", 0.05),
+                          ("static_friction_force", "static friction at RH 0.5 (N)", 0.03),
+                          ("d50", "tangential displacement at 0.5 F_s, RH 0.5 (m)", 0.10),
+                          ("d90", "tangential displacement at 0.9 F_s, RH 0.5 (m)", 0.10)):
+        v = float(np.mean(ref[q]))
+        rows.append(_row(case, f"small burl, {key}: {label}", v, ts[q], max(tol, float(np.ptp(ref[q])) / 2 / abs(v))))
+    return rows
+
+
 def _smooth_rows(quick: bool) -> list[ValidationRow]:
     case = "two_scale_smooth"
     pair = ContactPair(Material(100e9, 0.3), Material.rigid())
@@ -382,4 +445,5 @@ CASES = {
     "two_scale_whole_burl": _whole_burl_rows,
     "two_scale_partial_slip": _slip_rows,
     "two_scale_hysteresis": _loop_rows,
+    "two_scale_humid": _humid_rows,
 }
