@@ -91,8 +91,14 @@ t0 = time.process_time()
 stages = {"normal": {}, "ramp": {"kind": "partial_slip", "friction": {"coefficient": 0.2, "tangential_forces": "auto"}},
           "hysteresis": {"kind": "hysteresis", "friction": {"coefficient": 0.2, "path": {
               "control": "force", "amplitude": 0.9, "cycles": 1, "steps": 24}}}}
+rh = None if sys.argv[3] == "dry" else float(sys.argv[3])
+out["rh"] = rh
 for name, change in stages.items():
     sc = dict(d, **change)
+    if rh is not None and name != "normal":  # the normal kind is dry; the humid ramp's first state is not
+        sc["body1"] = dict(sc["body1"], film={"isotherm": "Si"})
+        sc["body2"] = dict(sc["body2"], film={"isotherm": "SiO2"})
+        sc["humidity"] = {"rh": rh, "van_der_waals": False}
     t = time.process_time()
     s = run_scenario(parse_scenario(sc), outdir=None, progress=False, warn=False).summary
     r = {"cpu_s": time.process_time() - t, "converged": s["converged"], "warnings": s["warnings"]}
@@ -102,7 +108,9 @@ for name, change in stages.items():
                  nominal_contact_area=st["nominal_contact_area"])
     elif name == "ramp":
         r.update(static_friction_force=s["static_friction_force"], d50=s["displacement_at_half_static_friction"],
-                 d90=s["displacement_at_0p9_static_friction"], presliding=s["presliding_displacement"])
+                 d90=s["displacement_at_0p9_static_friction"], presliding=s["presliding_displacement"],
+                 repulsive_force=s.get("repulsive_force"), capillary_force=s.get("capillary_force"),
+                 wetted_area=s.get("wetted_area"))
     else:
         r.update(dissipated_energy=s["dissipated_energy"][0],
                  lateral_stiffness={k["point"]: k["stiffness"] for k in s["lateral_stiffness"]})
@@ -113,15 +121,15 @@ print(json.dumps(out))
 """
 
 
-def real_chain(window_n: int = 400) -> dict:
+def real_chain(window_n: int = 400, rh: float | None = None) -> dict:
     """The real-size burl's chain (normal at 0.3 N, ramp to gross slip, one friction loop at 0.9 of
-    the static friction) in one fresh process with an empty table cache: CPU time and peak memory
-    of the whole chain."""
+    the static friction; the ramp and the loop at ``rh`` with Si and SiO2 films, or dry) in one
+    fresh process with an empty table cache: CPU time and peak memory of the whole chain."""
     import subprocess
     import sys
 
-    out = subprocess.run([sys.executable, "-c", _CHAIN_CHILD, str(REAL_SCENARIO), str(window_n)], check=True,
-                         capture_output=True, text=True)
+    out = subprocess.run([sys.executable, "-c", _CHAIN_CHILD, str(REAL_SCENARIO), str(window_n),
+                          "dry" if rh is None else str(rh)], check=True, capture_output=True, text=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -269,9 +277,10 @@ def main(argv=None) -> int:
             print(json.dumps(r), flush=True)
         (out / "whole_humid.json").write_text(json.dumps(rows, indent=1))
     if args.real_chain:
-        r = real_chain()
-        print(json.dumps(r), flush=True)
-        (out / "real_chain.json").write_text(json.dumps(r, indent=1))
+        rows = [real_chain(), real_chain(rh=0.5)]
+        for r in rows:
+            print(json.dumps(r), flush=True)
+        (out / "real_chain.json").write_text(json.dumps(rows, indent=1))
     if args.real:
         rows = []
         for n in REAL_WINDOW_CELLS:

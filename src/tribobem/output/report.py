@@ -769,6 +769,11 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
                                   f"{len(law.get('pressures', []))} tabulated pressures; macro cells "
                                   f"{format_quantity(ts['macro_dx'], 'length')}; contact area = real area "
                                   "(the windows' contact fraction), max pressure = the windows' largest"))
+        if s.get("rh") is not None and s.get("capillary_force") is not None:  # the windows' menisci at one RH
+            rows.append(("menisci", f"RH {s['rh']:g}: meniscus force {format_quantity(s['capillary_force'], 'force')}, "
+                                    f"repulsive force F0+ {format_quantity(s['repulsive_force'], 'force')}, wetted area "
+                                    f"{format_quantity(s['wetted_area'], 'area')} (the windows' menisci, summed over "
+                                    "the macro contact)"))
         if run_ts.get("window_over_pressure_length") is not None:
             rows.append(("scale separation", f"window / (p / |grad p|) = {run_ts['window_over_pressure_length']:.2f} "
                                              f"(median over the contact; "

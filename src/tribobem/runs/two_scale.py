@@ -104,10 +104,16 @@ def table_pressures(pb, settings: SolverSettings, force: float) -> tuple[np.ndar
     return np.geomspace(lo, hi, int(ts.pressures)), info
 
 
-def _macro_result(pb, res) -> NormalResult:
-    """The macro state as a NormalResult for fields.nc: nominal pressure, mean-plane separation."""
+def _macro_result(pb, res, law=None) -> NormalResult:
+    """The macro state as a NormalResult for fields.nc: nominal pressure, mean-plane separation.
+    With menisci (``law.menisci``) the pressure field is the nominal repulsive pressure, what the
+    windows' contacts carry (the applied nominal pressure plus the menisci's pull), so that the
+    maps and their F0+ are those of the contact, as in a whole-grid humid run."""
     contact = res.pressure > 0
-    return NormalResult(grid=pb.grid, pressure=res.pressure, gap=res.separation, displacement=res.displacement,
+    pressure = res.pressure
+    if law is not None and law.menisci is not None:
+        pressure = law.meniscus("repulsive_pressures", res.pressure)
+    return NormalResult(grid=pb.grid, pressure=pressure, gap=res.separation, displacement=res.displacement,
                         contact=contact, adhesive=np.zeros_like(contact), force=res.force, approach=res.approach,
                         iterations=res.newton_iterations, residual_history=np.array([res.residual]),
                         converged=res.converged, time=res.time, control="force",
@@ -154,7 +160,7 @@ def run_normal(pb, bar, settings: SolverSettings) -> RunOutput:
     beyond = False
     for k, force in enumerate(forces):
         res = solve_interface_normal(pb.operator, pb.gap, law, float(force), tol=max(settings.tolerance, 1e-9))
-        state = _macro_result(pb, res)
+        state = _macro_result(pb, res, law)
         rows.append(_row(pb, state, res))
         results.append(state)
         beyond = beyond or res.beyond_table
@@ -320,7 +326,7 @@ def run_partial_slip(pb, bar, settings: SolverSettings) -> RunOutput:
         forces = [float(f) for f in fr.tangential_forces]
     limit = slip_law.max_fraction * static
     solvable = [f for f in forces if 0 <= f < limit]
-    state = _macro_result(pb, res)
+    state = _macro_result(pb, res, law)
     real_fraction = law.contact_fraction(res.pressure)
     rows, results, tangential, messages = [], [], [], []
     bar.phase("macro tangential steps", len(solvable))
@@ -412,7 +418,7 @@ def run_hysteresis(pb, bar, settings: SolverSettings) -> RunOutput:
     bar.phase("macro hysteresis steps", len(path.values))
     loop = interface_loop(pb.operator, res.pressure, slip_law, path.values, path.turning, path.cycle,
                           real_fraction=real_fraction, tol=max(settings.tolerance, 1e-9), progress=bar)
-    state = _macro_result(pb, res)
+    state = _macro_result(pb, res, law)
     rows, results, tangential = [], [], []
     start = solve_interface_tangential(pb.operator, res.pressure, slip_law, 0.0)
     for st, cycle, branch in [(start, 0, "start")] + list(zip(loop.states, path.cycle, path.branch)):
