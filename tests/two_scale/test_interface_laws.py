@@ -83,3 +83,27 @@ def test_tables_are_cached_and_dask_gives_the_same_numbers(tmp_path):
     # another pressure ladder is another table
     other = interface_law(w, ps * 1.01, cache_dir=tmp_path)
     assert other.info["cached"] == 0
+
+
+def test_a_table_being_computed_elsewhere_is_waited_for_not_computed_twice(tmp_path):
+    import threading
+    import time
+
+    from tribobem.two_scale.micro import _cached_call
+
+    calls = []
+
+    def slow(x):
+        calls.append(x)
+        time.sleep(1.0)
+        return {"value": x}
+
+    out = []
+    threads = [threading.Thread(target=lambda: out.append(_cached_call(slow, {"x": 3}, "k", str(tmp_path))))
+               for _ in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert calls == [3] and sorted(o["cached"] for o in out) == [False, True, True]
+    assert all(o["value"] == 3 for o in out) and not list(tmp_path.glob("*.lock"))

@@ -226,23 +226,62 @@ def _largest_patch_cells(contact: np.ndarray) -> float:
     return float(2.0 * np.sqrt(largest / np.pi))
 
 
+#: A lock on a table older than this (s) is taken for a killed computation's and ignored.
+STALE_LOCK = 3600.0
+
+
+def _read_table(path: Path) -> dict | None:
+    try:
+        table = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None  # absent, or unreadable (e.g. written by a killed run): recompute
+    table["cached"] = True
+    return table
+
+
 def _cached_call(fn, kwargs: dict, key: str, cache_dir: str | None) -> dict:
     """``fn(**kwargs)`` (a table as a dict), read from or written to ``cache_dir/<key>.json``
-    (None: no cache)."""
+    (None: no cache).
+
+    While one process computes a table it holds ``<key>.lock``; another process that needs the
+    same table (the points of a design study on the workers of one machine or of a cluster that
+    shares the cache folder) waits for it instead of computing it twice.
+    """
+    import time
+
     path = Path(cache_dir) / f"{key}.json" if cache_dir is not None else None
-    if path is not None and path.exists():
-        try:
-            table = json.loads(path.read_text())
-            table["cached"] = True
-            return table
-        except (OSError, ValueError):
-            pass  # unreadable (e.g. written by a killed run): recompute
-    table = fn(**kwargs)
+    lock = None
     if path is not None:
+        table = _read_table(path)
+        if table is not None:
+            return table
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".tmp{os.getpid()}")
-        tmp.write_text(json.dumps(table))
-        os.replace(tmp, path)  # atomic: a reader sees the whole table or none
+        lock = path.with_suffix(".lock")
+        while True:
+            try:
+                os.close(os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+                break  # ours: compute it
+            except FileExistsError:
+                try:
+                    stale = time.time() - lock.stat().st_mtime > STALE_LOCK
+                except FileNotFoundError:
+                    continue  # released just now
+                if stale:
+                    lock.unlink(missing_ok=True)
+                    continue
+                time.sleep(0.5)
+                table = _read_table(path)
+                if table is not None:
+                    return table
+    try:
+        table = fn(**kwargs)
+        if path is not None:
+            tmp = path.with_suffix(f".tmp{os.getpid()}")
+            tmp.write_text(json.dumps(table))
+            os.replace(tmp, path)  # atomic: a reader sees the whole table or none
+    finally:
+        if lock is not None:
+            lock.unlink(missing_ok=True)
     table["cached"] = False
     return table
 

@@ -97,12 +97,17 @@ MU = 0.2
 #: = "auto"``; ``python -m studies.two_scale --whole-humid``, 2026-12-02): static friction (N), the
 #: repulsive force F0+ and the meniscus force (N) at zero tangential load, the tangential
 #: displacement (m) at 0.5 and 0.9 of the static friction, per roughness seed.  "n512": 20 nm cells
-#: (35 s of CPU each).
+#: (35-38 s of CPU each), "n1024": 10 nm cells.
 WHOLE_BURL_HUMID: dict = {
     "n512": {"seeds": [100, 101], "static_friction_force": [7.112339832e-04, 7.103736603e-04],
              "repulsive_force": [3.561264229e-03, 3.555182607e-03],
              "capillary_force": [-2.059556923e-03, -2.053905527e-03], "d50": [7.380935420e-10, 7.387992569e-10],
              "d90": [1.480073261e-09, 1.489881283e-09]},
+    # 10 nm cells: 207 s of CPU each
+    "n1024": {"seeds": [100, 101], "static_friction_force": [6.749238770e-04, 6.728526522e-04],
+              "repulsive_force": [3.378950507e-03, 3.369601677e-03],
+              "capillary_force": [-1.878476790e-03, -1.869001283e-03], "d50": [7.054696040e-10, 7.062056167e-10],
+              "d90": [1.423374100e-09, 1.429257396e-09]},
 }
 
 #: The friction loops of the hysteresis validation: F* = 0.8 mu F, 24 steps per cycle.
