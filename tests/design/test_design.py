@@ -369,16 +369,20 @@ def test_a_two_scale_design_shares_its_micro_tables_and_ranks_by_stiffness(tmp_p
     assert len(list((tmp_path / "cache" / "two_scale").glob("*.json"))) == 2
 
 
-def test_a_humid_two_scale_design_point_says_what_it_cannot_run(tmp_path, monkeypatch):
+def test_a_humid_two_scale_design_point_runs_its_ramp_and_says_it_has_no_pull_off(tmp_path, monkeypatch):
     from tribobem.design.chain import run_chain
 
     monkeypatch.setenv("TRIBOBEM_CACHE", str(tmp_path / "cache"))
-    sc = {**TWO_SCALE_BASE, "humidity": {"rh": 0.5}, "body1": {**TWO_SCALE_BASE["body1"], "film": {"isotherm": "Si"}}}
+    sc = {**TWO_SCALE_BASE, "humidity": {"rh": 0.5, "van_der_waals": False},
+          "body1": {**TWO_SCALE_BASE["body1"], "film": {"isotherm": "Si"}}}
     out = run_chain(sc, {"pulloff": True, "hysteresis": None, "tangential_forces": [0.0, 1e-4]})
     # no whole-grid pull-off on the macro grid (its roughness lives in the windows): skipped, and said
     assert out["stages"]["pulloff"]["status"] == "skipped"
     assert "two_scale" in out["stages"]["pulloff"]["message"]
     assert math.isnan(out["values"]["pull_off_force"])
     assert any("pull-off not computed" in w for w in out["warnings"])
-    # the humid ramp is refused with the key named
-    assert out["stages"]["ramp"]["status"] == "failed" and "humidity" in out["stages"]["ramp"]["message"]
+    # the humid ramp runs at two scales: the menisci pull the burl on, F0+ = F + |F_cap|, F_s = mu F0+
+    assert out["stages"]["ramp"]["status"] == "ok"
+    v = out["values"]
+    assert v["capillary_force"] < 0 and v["repulsive_force"] == pytest.approx(2e-3 - v["capillary_force"], rel=0.02)
+    assert v["static_friction_force"] == pytest.approx(0.2 * v["repulsive_force"], rel=1e-6)

@@ -176,8 +176,12 @@ def slip_scenario(**changes):
     return _override(d, changes)
 
 
-def test_two_scale_partial_slip_ramps_to_the_static_friction():
+def test_two_scale_partial_slip_ramps_to_the_static_friction(tmp_path):
+    from tribobem.output.figures.sets import two_scale_figures
+
     s = run_scenario(parse_scenario(slip_scenario()), outdir=None, progress=False, warn=False).summary
+    figures = two_scale_figures(None, s, tmp_path)  # the normal and the tangential interface laws
+    assert set(figures) == {"interface_law", "slip_law"} and all(f.stat().st_size > 10_000 for f in figures.values())
     steps = s["steps"]
     fx = [st["tangential_force_x"] for st in steps]
     dx = [st["displacement_x"] for st in steps]

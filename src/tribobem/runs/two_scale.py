@@ -23,6 +23,7 @@ roughness touch where the macro gap is 0).  ``two_scale`` holds the table and ho
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -196,12 +197,12 @@ def run_normal(pb, bar, settings: SolverSettings) -> RunOutput:
                      warnings=messages)
 
 
-def _normal_state(pb, settings, force):
+def _normal_state(pb, settings, force, windows=None):
     """The macro normal state of a two-scale tangential run, its law and run-level info."""
     pressures, range_info = table_pressures(pb, settings, force)
     ts = pb.scenario.two_scale
-    law = interface_law(pb.two_scale, pressures, tol=settings.tolerance, max_iterations=settings.max_iterations,
-                        scheduler=ts.scheduler, cache=ts.cache)
+    law = interface_law(windows or pb.two_scale, pressures, tol=settings.tolerance,
+                        max_iterations=settings.max_iterations, scheduler=ts.scheduler, cache=ts.cache)
     res = solve_interface_normal(pb.operator.normal, pb.gap, law, float(force), tol=max(settings.tolerance, 1e-9))
     return law, res, range_info
 
@@ -232,14 +233,15 @@ def _tangential_setup(pb, bar, settings):
     sc = pb.scenario
     ts = sc.two_scale
     mu = float(sc.friction.coefficient)
-    pb.two_scale.capillary = window_menisci(pb, settings)
+    # the built windows with their menisci at the run's RH (a copy: the problem stays as built)
+    windows = dataclasses.replace(pb.two_scale, capillary=window_menisci(pb, settings))
     bar.phase("micro windows (normal)", 1)
-    law, res, range_info = _normal_state(pb, settings, float(sc.load.force))
+    law, res, range_info = _normal_state(pb, settings, float(sc.load.force), windows)
     bar(1, 1)
     slip_p = np.geomspace(law.pressures[0] * 10.0, law.pressures[-1], SLIP_PRESSURES)
     bar.phase("micro windows (tangential)", 1)
     try:
-        slip_law = interface_slip_law(pb.two_scale, slip_p, mu, tol=max(settings.tolerance, 1e-8),
+        slip_law = interface_slip_law(windows, slip_p, mu, tol=max(settings.tolerance, 1e-8),
                                       max_iterations=settings.max_iterations, scheduler=ts.scheduler, cache=ts.cache)
     except ValueError as exc:
         raise InputError("two_scale", f"the windows' slip table cannot be built: {exc}") from None

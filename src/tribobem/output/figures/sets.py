@@ -21,7 +21,7 @@ from .load_curve import force_curve_figure
 from .maps import contact_figure, pressure_figure, profile_figure, topography_figure
 from .stickslip import _rows_with, _step_name, _step_number, stick_normal_figure, stick_ratio_figure
 from .stickslip import stickslip_figure, stickslip_steps
-from .two_scale import interface_law_figure
+from .two_scale import interface_law_figure, slip_law_figure
 
 #: File stems of the figures, in report order.  ``stickslip`` stands for the stick/slip maps,
 #: one per shown step, named ``stickslip_step<k>`` (k: the step's index in summary.json), or,
@@ -252,8 +252,8 @@ def map_figures(ds, summary: dict, outdir) -> dict:
 
 
 def two_scale_figures(ds, summary: dict, outdir) -> dict:
-    """Figure set ``two_scale``: the interface law of the micro windows (a run with
-    ``[two_scale]``; nothing otherwise).
+    """Figure set ``two_scale``: the interface laws of the micro windows, normal and (ramps and
+    loops) tangential (a run with ``[two_scale]``; nothing otherwise).
 
     Parameters
     ----------
@@ -269,8 +269,14 @@ def two_scale_figures(ds, summary: dict, outdir) -> dict:
     dict
         Figure name -> Path of the PNG written; empty without a two-scale table.
     """
+    out = {}
     f = interface_law_figure(summary, Path(outdir) / "interface_law.png")
-    return {"interface_law": f} if f is not None else {}
+    if f is not None:
+        out["interface_law"] = f
+    f = slip_law_figure(summary, Path(outdir) / "slip_law.png")
+    if f is not None:  # a ramp or a loop: the windows' tangential law
+        out["slip_law"] = f
+    return out
 
 
 #: The figure sets a run kind names (:attr:`tribobem.runs.kind.RunKind.figures`): name -> a

@@ -1,5 +1,6 @@
-"""The interface law of a two-scale run (``[two_scale]``): the micro windows' mean gap and real
-contact fraction against nominal pressure, with the pressures the macro solve used."""
+"""The interface laws of a two-scale run (``[two_scale]``): the micro windows' mean gap and real
+contact fraction against nominal pressure, with the pressures the macro solve used, and (ramps
+and loops) their slip and stick fraction against the shear."""
 
 from __future__ import annotations
 
@@ -62,4 +63,49 @@ def interface_law_figure(summary: dict, path) -> Path | None:
     ax1.set_title("interface law (micro windows)")
     ax2.set_title("real contact fraction")
     ax1.legend(fontsize=10, loc="lower left")
+    return save_png(fig, path)
+
+
+def slip_law_figure(summary: dict, path) -> Path | None:
+    """The tangential law of the windows (a two-scale ramp or loop): their slip against the shear
+    fraction f = tau / capacity (mu p dry, mu p_rep with menisci) and their stick fraction, at
+    four of the tabulated pressures.  None (nothing written) without a slip table.
+
+    Parameters
+    ----------
+    summary : dict
+        The run summary (summary.json); its ``two_scale.slip_law`` table.
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path or None
+    """
+    law = (summary.get("two_scale") or {}).get("slip_law")
+    if not law:
+        return None
+    p = np.asarray(law["pressures"], dtype=float)
+    f = np.concatenate([[0.0], np.asarray(law["fractions"], dtype=float)])
+    slips = np.asarray(law["slips"], dtype=float)
+    stick = np.asarray(law["stick_ratios"], dtype=float)
+    rows = sorted(set(np.linspace(0, p.size - 1, 4).round().astype(int).tolist()))
+    pf, pl = display_unit(p, "pressure")
+    sf, sl = display_unit(slips[rows], "length")
+    fig = new_figure(10.0, 4.2)
+    ax1, ax2 = fig.subplots(1, 2)
+    palette = ("#1f77b4", "#2ca02c", "#ff7f0e", "#d62728")
+    for c, i in zip(palette, rows):
+        label = f"p = {p[i] / pf:.3g} {pl}"
+        ax1.plot(f, np.concatenate([[0.0], slips[i]]) / sf, "o-", ms=3, color=c, label=label)
+        ax2.plot(f, np.concatenate([[1.0], stick[i]]), "o-", ms=3, color=c, label=label)
+    bound = "mu p_rep (menisci)" if law.get("capacities") else "mu p"
+    for ax in (ax1, ax2):
+        ax.set_xlabel(f"shear fraction tau / ({bound})")
+        ax.grid(True, alpha=0.3)
+    ax1.set_ylabel(f"interface slip s ({sl})")
+    ax2.set_ylabel("stick fraction of the real contact")
+    ax1.set_title(f"slip law (micro windows, mu = {law.get('friction_coefficient', float('nan')):g})")
+    ax2.set_title("stick fraction")
+    ax1.legend(fontsize=10, loc="upper left")
     return save_png(fig, path)
