@@ -260,19 +260,28 @@ def _cached_call(fn, kwargs: dict, key: str, cache_dir: str | None) -> dict:
         while True:
             try:
                 os.close(os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
-                break  # ours: compute it
             except FileExistsError:
-                try:
-                    stale = time.time() - lock.stat().st_mtime > STALE_LOCK
-                except FileNotFoundError:
-                    continue  # released just now
-                if stale:
-                    lock.unlink(missing_ok=True)
-                    continue
-                time.sleep(0.5)
+                pass
+            else:
+                # ours; but another process may have written the table and released the lock
+                # between our first look and now
                 table = _read_table(path)
-                if table is not None:
-                    return table
+                if table is None:
+                    break  # compute it
+                lock.unlink(missing_ok=True)
+                return table
+            # another process holds the lock: wait for its table (or take over a stale lock)
+            try:
+                stale = time.time() - lock.stat().st_mtime > STALE_LOCK
+            except FileNotFoundError:
+                continue  # released just now
+            if stale:
+                lock.unlink(missing_ok=True)
+                continue
+            time.sleep(0.5)
+            table = _read_table(path)
+            if table is not None:
+                return table
     try:
         table = fn(**kwargs)
         if path is not None:
