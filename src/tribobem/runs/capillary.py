@@ -87,7 +87,7 @@ def _film_progress(bar, rh: float, body: int):
     return report
 
 
-def films_at(pb, rh: float, tol: float = 1e-10, bar=None):
+def films_at(pb, rh: float, tol: float = 1e-10, bar=None, *, humidity=None, grid=None):
     """Both bodies' levelled films at ``rh`` (:class:`~tribobem.interactions.films.FilmResult`).
 
     Computed on each body's undeformed topography (``pb.humidity.surface1/2``) before contact,
@@ -109,6 +109,9 @@ def films_at(pb, rh: float, tol: float = 1e-10, bar=None):
         Thin-film levelling: each wet body's integration is a phase of ``bar``
         (``bar.phase``, ``bar(done, total)``) advancing with the physical time reached, in
         1/1000 of the end time (:data:`FILM_PROGRESS_STEPS`).  None: nothing shown.
+    humidity, grid : optional
+        Other surfaces than the problem's: a humidity setup and its grid (a two-scale run's
+        micro windows); default ``pb.humidity`` and ``pb.grid``.
 
     Returns
     -------
@@ -116,7 +119,8 @@ def films_at(pb, rh: float, tol: float = 1e-10, bar=None):
         The films of body 1 and body 2 (thickness in m per node; ``time`` reached and
         ``levelling_time`` tau_slow in s for thin-film levelling).
     """
-    hs = pb.humidity
+    hs = pb.humidity if humidity is None else humidity
+    grid = pb.grid if grid is None else grid
     out = []
     for body, (surface, iso) in enumerate(((hs.surface1, hs.isotherm1), (hs.surface2, hs.isotherm2)), 1):
         kw = {}
@@ -124,13 +128,14 @@ def films_at(pb, rh: float, tol: float = 1e-10, bar=None):
             kw["time"] = hs.film_time
             if bar is not None:
                 kw["time_progress"] = _film_progress(bar, rh, body)
-        out.append(film_thickness(surface, pb.grid, iso, rh, hs.water, mode=hs.levelling,
+        out.append(film_thickness(surface, grid, iso, rh, hs.water, mode=hs.levelling,
                                   system=None if hs.levelling == "uniform" else hs.system,
                                   disjoining=hs.disjoining, tol=max(tol, FILM_TOLERANCE_FLOOR), **kw))
     return out[0], out[1]
 
 
-def capillary_options(pb, rh: float, settings: SolverSettings | None = None) -> dict:
+def capillary_options(pb, rh: float, settings: SolverSettings | None = None, *, humidity=None,
+                      periodic: bool | None = None) -> dict:
     """The keyword arguments of :func:`~tribobem.solvers.capillary.solve_capillary` at ``rh``
     (all but the load, the films, the warm start and the tolerances).
 
@@ -142,6 +147,9 @@ def capillary_options(pb, rh: float, settings: SolverSettings | None = None) -> 
         Relative humidity (0..1).
     settings : SolverSettings, optional
         The run's solver settings: its ``normal_method`` (default: built from ``pb.scenario``).
+    humidity, periodic : optional
+        Another humidity setup and periodicity than the problem's (a two-scale run's periodic
+        micro windows); default ``pb.humidity`` and ``pb.grid.periodic``.
 
     Returns
     -------
@@ -150,7 +158,7 @@ def capillary_options(pb, rh: float, settings: SolverSettings | None = None) -> 
         Hamaker constants (J), contact angles (rad), critical distance and cutoff (m), periodicity,
         the normal solver (``[solver] method``; auto is Polonsky-Keer with ``[humidity]``).
     """
-    hs = pb.humidity
+    hs = pb.humidity if humidity is None else humidity
     water = hs.water
     return {
         "kelvin_radius": water.kelvin_radius(rh),
@@ -163,7 +171,7 @@ def capillary_options(pb, rh: float, settings: SolverSettings | None = None) -> 
         "contact_angles": hs.contact_angles,
         "critical_distance": hs.critical_distance,
         "cutoff": hs.cutoff,
-        "periodic": pb.grid.periodic,
+        "periodic": pb.grid.periodic if periodic is None else bool(periodic),
         "normal_method": (settings or SolverSettings.from_scenario(pb.scenario)).normal_method,
     }
 

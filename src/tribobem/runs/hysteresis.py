@@ -31,7 +31,7 @@ from .kind import (ALL, CAPILLARY_STEPS, TANGENTIAL_STEPS, RunKind, RunOutput, f
                    require_elastic_body, require_friction, require_humidity)
 from .kind import TANGENTIAL_COLUMNS
 from .settings import SolverSettings
-from .loop_stiffness import _along, lateral_stiffness_fit, stiffness_table
+from .loop_stiffness import _along, kept_states, lateral_stiffness_fit, stiffness_table
 from .two_scale import check_two_scale_tangential, run_hysteresis as run_two_scale
 
 __all__ = ["run", "check", "KIND", "lateral_stiffness_fit", "STIFFNESS_POINTS"]
@@ -166,11 +166,7 @@ def _run_one(pb, bar, interaction, initial, label: str, settings: SolverSettings
         run_level["lateral_stiffness"] = []
         run_level["lateral_stiffness_error"] = str(exc)
     # Fields: the start and each turning point (Paper E A, D, H, L ...) and the step after (A', D', H').
-    keep = [0]
-    for i, t in enumerate(res.path.turning):
-        if t:
-            keep += [i + 1, i + 2] if i + 2 < len(rows) else [i + 1]
-    keep = sorted(set(k for k in keep if k < len(rows)))
+    keep = kept_states(res.path.turning, len(rows))
     all_states = [res.start] + res.steps
     kept = [all_states[i] for i in keep]
     results = [s.normal for s in kept]

@@ -1,5 +1,6 @@
-"""The lateral stiffness K_L of a friction loop (Paper F): the fit of its last rising branch and
-its slopes at the points A, B, C, shared by the whole-grid and the two-scale hysteresis runs."""
+"""What the whole-grid and the two-scale hysteresis runs share: the lateral stiffness K_L of a
+friction loop (Paper F: the fit of its last rising branch and its slopes at the points A, B, C)
+and the states a loop keeps for fields.nc."""
 
 from __future__ import annotations
 
@@ -8,7 +9,18 @@ import numpy as np
 from ..analysis.loops import STIFFNESS_POINTS, fit_eq3
 from ..errors import InputError
 
-__all__ = ["lateral_stiffness_fit", "stiffness_table"]
+__all__ = ["lateral_stiffness_fit", "stiffness_table", "kept_states"]
+
+
+def kept_states(turning, n_rows: int) -> list:
+    """The rows of a loop whose states go to fields.nc: the start (row 0) and each turning point
+    with the step after it (Paper E's A, D, D', H, H', ...); ``turning`` flags the path's steps,
+    row k + 1 is step k."""
+    keep = [0]
+    for i, turn in enumerate(turning):
+        if turn:
+            keep += [i + 1, i + 2] if i + 2 < n_rows else [i + 1]
+    return sorted(set(k for k in keep if k < n_rows))
 
 
 def lateral_stiffness_fit(forces, displacements):

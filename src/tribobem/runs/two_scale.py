@@ -31,12 +31,15 @@ import numpy as np
 from ..errors import ConvergenceWarning
 from ..errors import InputError
 from ..results import NormalResult, TangentialResult
+from ..solvers.hysteresis import cycle_path, loop_energies
 from ..solvers.normal import solve_normal
 from ..two_scale.macro import pressure_length, solve_interface_normal
 from ..two_scale.micro import interface_law
 from ..two_scale.tangential import interface_loop, interface_slip_law, solve_interface_tangential
+from .capillary import capillary_options, films_at
 from .common import step_row
 from .kind import RunOutput
+from .loop_stiffness import kept_states, stiffness_table
 from .settings import SolverSettings
 
 __all__ = ["check_two_scale_tangential", "run_normal", "run_partial_slip", "run_hysteresis", "table_pressures", "AUTO_FRACTIONS"]
@@ -212,19 +215,15 @@ def window_menisci(pb, settings: SolverSettings) -> list | None:
     two films (levelled on the window's own surfaces) and the capillary model's options, as the
     whole-grid humid kinds make them (:func:`tribobem.runs.capillary.films_at`,
     :func:`~tribobem.runs.capillary.capillary_options`); None without ``[humidity]``."""
-    from types import SimpleNamespace
-
-    from .capillary import capillary_options, films_at
-
     w = pb.two_scale
     if pb.humidity is None or w.humidity is None:
         return None
     rh = float(pb.humidity.rh[0])
     out = []
     for hs in w.humidity:
-        window = SimpleNamespace(humidity=hs, grid=w.grid, interaction=pb.interaction, scenario=pb.scenario)
-        f1, f2 = films_at(window, rh, settings.film_tolerance)
-        out.append({"film1": f1.thickness, "film2": f2.thickness, "options": capillary_options(window, rh, settings)})
+        f1, f2 = films_at(pb, rh, settings.film_tolerance, humidity=hs, grid=w.grid)
+        out.append({"film1": f1.thickness, "film2": f2.thickness,
+                    "options": capillary_options(pb, rh, settings, humidity=hs, periodic=w.grid.periodic)})
     return out
 
 
@@ -402,9 +401,6 @@ def run_hysteresis(pb, bar, settings: SolverSettings) -> RunOutput:
     -------
     RunOutput
     """
-    from ..solvers.hysteresis import cycle_path, loop_energies
-    from .loop_stiffness import stiffness_table
-
     sc = pb.scenario
     fr = sc.friction
     path_spec = fr.path
@@ -451,12 +447,7 @@ def run_hysteresis(pb, bar, settings: SolverSettings) -> RunOutput:
         run["lateral_stiffness"], run["lateral_stiffness_fit"] = table, fit
     except (InputError, RuntimeError, ValueError) as exc:
         run["lateral_stiffness"], run["lateral_stiffness_error"] = [], str(exc)
-    # fields: the start and each turning point with the step after (as a whole-grid loop)
-    keep = [0]
-    for i, turn in enumerate(path.turning):
-        if turn:
-            keep += [i + 1, i + 2] if i + 2 < len(rows) else [i + 1]
-    keep = sorted(set(k for k in keep if k < len(rows)))
+    keep = kept_states(path.turning, len(rows))
     labels = [f"{rows[i]['branch']} {rows[i]['cycle']} step {i}" for i in keep]
     return RunOutput(rows=rows, results=[results[i] for i in keep], tangential=[tangential[i] for i in keep],
                      labels=labels, indices=keep, run=run, warnings=_slip_messages(slip_law))

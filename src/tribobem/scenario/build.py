@@ -676,10 +676,10 @@ def _micro_windows(sc: Scenario, grid: Grid, pair, interaction, info: dict, warn
              "realisations": int(realisations), "measured": sorted(tiles), "macro_dx": float(grid.dx),
              "seeds": [int(getattr(specs[n], "seed", None) or 0) for n in ("body1", "body2")], "window_textures": short}
     info["two_scale"] = winfo
-    windows = MicroWindows(wgrid, pair, gaps, interaction, dict(winfo), surfaces=surfaces)
-    if sc.humidity is not None:  # each window's own water films rest on its own two surfaces
-        zero = np.zeros(wgrid.shape)
-        windows.humidity = [humidity_setup(sc, zero, zero, s1, s2) for s1, s2 in surfaces]
+    zero = np.zeros(wgrid.shape)
+    # each window's own water films rest on its own two surfaces
+    hum = [humidity_setup(sc, zero, zero, s1, s2) for s1, s2 in surfaces] if sc.humidity is not None else None
+    windows = MicroWindows(wgrid, pair, gaps, interaction, dict(winfo), surfaces=surfaces, humidity=hum)
     windows.info["roughness_of"] = {n: r for n, (r, _) in first.items()}
     # a measured scan's wavelengths longer than the window: part of the macro geometry
     windows.info["macro_roughness"] = {n: lt for n, (_, lt) in split.items()}

@@ -22,6 +22,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import time
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -247,8 +248,6 @@ def _cached_call(fn, kwargs: dict, key: str, cache_dir: str | None) -> dict:
     same table (the points of a design study on the workers of one machine or of a cluster that
     shares the cache folder) waits for it instead of computing it twice.
     """
-    import time
-
     path = Path(cache_dir) / f"{key}.json" if cache_dir is not None else None
     lock = None
     if path is not None:

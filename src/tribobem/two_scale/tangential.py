@@ -47,6 +47,7 @@ from ..elasticity.operators import periodic_operator
 from ..errors import ConvergenceWarning, InputError
 from ..solvers.tangential import GrossSlipError, solve_tangential
 from .macro import _cg, _self_compliance
+from .micro import compute_tables, table_key, window_states
 
 __all__ = ["SLIP_FRACTIONS", "TangentialInterfaceLaw", "window_slip_table", "interface_slip_law",
            "InterfaceSlipResult", "solve_interface_tangential", "interface_loop", "window_loop_check"]
@@ -88,8 +89,6 @@ def window_slip_table(grid, pair, gap, pressures, friction_coefficient: float, *
         ``slips`` (m, shape (pressures, fractions)), ``stick_ratios`` (same shape), ``converged``,
         ``capacities`` (Pa: mu times the window's mean repulsive pressure, per pressure).
     """
-    from .micro import window_states
-
     op = periodic_operator(grid, pair, components=("x", "y", "z"))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
@@ -273,8 +272,6 @@ def interface_slip_law(windows, pressures, friction_coefficient: float, *, fract
     -------
     TangentialInterfaceLaw
     """
-    from .micro import compute_tables, table_key
-
     pressures = np.asarray(pressures, float)
     tasks = [(window_slip_table, {"grid": windows.grid, "pair": windows.pair, "gap": g, "pressures": pressures,
                                   "friction_coefficient": float(friction_coefficient), "fractions": tuple(fractions),
