@@ -219,7 +219,8 @@ def loop_scenario(**changes):
 def test_two_scale_loop_matches_the_whole_burl_loop():
     from tribobem.validation.two_scale import WHOLE_BURL_LOOP
 
-    s = run_scenario(parse_scenario(loop_scenario()), outdir=None, progress=False, warn=False).summary
+    result = run_scenario(parse_scenario(loop_scenario()), outdir=None, progress=False, warn=False)
+    s = result.summary
     ref = WHOLE_BURL_LOOP["n512"]  # the whole burl's loop at the windows' 20 nm cells, the coupled pair
     assert s["converged"] and len(s["steps"]) == 31
     # measured: +1.9 % (seed 1 windows), K_L -1.4 / -2.5 / -3.9 %; a slip law without the Masing factor 2
@@ -230,6 +231,11 @@ def test_two_scale_loop_matches_the_whole_burl_loop():
     for point in "ABC":
         assert k[point] == pytest.approx(ref[point][0], rel=0.10)
     assert s["two_scale"]["unloading_rule"] == "Masing"
+    # the stick maps of the kept states (start, D, D', H, H', L) follow the branches: right after a
+    # turn the windows stick again (Masing: the branch's own stick fraction), at a turn most slip
+    stuck = [np.count_nonzero(t.stick) / np.count_nonzero(t.contact) for t in result.tangential]
+    assert stuck[0] == 1.0 and stuck[2] > 0.9 and stuck[4] > 0.9
+    assert max(stuck[1], stuck[3], stuck[5]) < 0.2
     # the loop closes: back at +F* at the first turn's displacement
     assert s["steps"][-1]["displacement_x"] == pytest.approx(s["steps"][6]["displacement_x"], rel=1e-6)
 

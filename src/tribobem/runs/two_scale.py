@@ -275,16 +275,17 @@ def _slip_messages(slip_law) -> list:
     return []
 
 
-def _tangential_result(pb, res, slip_state, mu: float, slip_law) -> TangentialResult:
+def _tangential_result(pb, res, slip_state, mu: float) -> TangentialResult:
     """A macro slip state as a TangentialResult for fields.nc (shear and slip along x); a cell
-    sticks where most of its window's real contact sticks (the window's stick fraction >= 0.5)."""
+    sticks where most of its window's real contact sticks (the window's stick fraction >= 0.5: on
+    a loop's branch, the branch's own, :attr:`~tribobem.two_scale.tangential.InterfaceSlipResult.
+    cell_stick`)."""
     shear = np.zeros((2,) + pb.grid.shape)
     shear[0] = slip_state.shear
     slip = np.zeros_like(shear)
     slip[0] = slip_state.slip
     contact = res.pressure > 0
-    local = slip_law.stick_ratio(np.where(contact, slip_state.shear, 0.0), np.where(contact, res.pressure, 1.0))
-    stick = contact & (local >= 0.5)
+    stick = contact & (slip_state.cell_stick >= 0.5)
     return TangentialResult(grid=pb.grid, shear=shear, slip=slip, relative_displacement=slip.copy(), contact=contact,
                             stick=stick, force_x=slip_state.force, force_y=0.0,
                             displacement_x=slip_state.displacement, displacement_y=0.0, friction_coefficient=mu,
@@ -337,7 +338,7 @@ def run_partial_slip(pb, bar, settings: SolverSettings) -> RunOutput:
         r = solve_interface_tangential(pb.operator, res.pressure, slip_law, f, real_fraction=real_fraction,
                                        initial_shear=previous, tol=max(settings.tolerance, 1e-9))
         previous = r.shear if f > 0 else None
-        t = _tangential_result(pb, res, r, mu, slip_law)
+        t = _tangential_result(pb, res, r, mu)
         row = _row(pb, state, res)
         row.update(t.scalars())
         row["stick_ratio"] = r.stick_ratio
@@ -420,7 +421,7 @@ def run_hysteresis(pb, bar, settings: SolverSettings) -> RunOutput:
     rows, results, tangential = [], [], []
     start = solve_interface_tangential(pb.operator, res.pressure, slip_law, 0.0)
     for st, cycle, branch in [(start, 0, "start")] + list(zip(loop.states, path.cycle, path.branch)):
-        t = _tangential_result(pb, res, st, mu, slip_law)
+        t = _tangential_result(pb, res, st, mu)
         row = _row(pb, state, res)
         row.update(t.scalars())
         row.update(stick_ratio=st.stick_ratio, stick_area=st.stick_ratio * res.real_contact_area,

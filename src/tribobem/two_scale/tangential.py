@@ -309,6 +309,9 @@ class InterfaceSlipResult:
     residual : float
     converged : bool
     time : float
+    cell_stick : ndarray, optional
+        Each cell's window stick fraction (1 at zero shear; on a Masing branch the branch's own,
+        that of the virgin state at the branch's transformed shear); 0 outside the loaded cells.
     """
 
     shear: np.ndarray
@@ -321,6 +324,7 @@ class InterfaceSlipResult:
     residual: float
     converged: bool
     time: float = 0.0
+    cell_stick: np.ndarray | None = None
 
 
 def _tangential_block(operator):
@@ -379,7 +383,7 @@ def solve_interface_tangential(operator, pressure, law: TangentialInterfaceLaw, 
                          f"{law.max_fraction:g} of the static friction mu F = {float(cap.sum()) * dA:.6g} N), got {force!r}")
     if force == 0:
         return InterfaceSlipResult(np.zeros_like(p), np.zeros_like(p), 0.0, 0.0, 1.0, 0, 0, 0.0, True,
-                                   time.perf_counter() - t0)
+                                   time.perf_counter() - t0, cell_stick=np.where(loaded, 1.0, 0.0))
 
     def G(x):
         return sign * op.apply(x)
@@ -439,7 +443,7 @@ def solve_interface_tangential(operator, pressure, law: TangentialInterfaceLaw, 
     disp = float(delta) if free.any() else float(np.mean((G(tau) + s)[loaded]))
     return InterfaceSlipResult(shear=tau, slip=s, displacement=disp, force=float(tau.sum() * dA), stick_ratio=ratio,
                                newton_iterations=it, cg_iterations=total_cg, residual=residual, converged=converged,
-                               time=time.perf_counter() - t0)
+                               time=time.perf_counter() - t0, cell_stick=np.where(loaded, stick, 0.0))
 
 
 @dataclass
@@ -514,7 +518,7 @@ def interface_loop(operator, pressure, law: TangentialInterfaceLaw, values, turn
         states.append(InterfaceSlipResult(shear=tau, slip=slip, displacement=float(delta), force=float(tau.sum() * dA),
                                           stick_ratio=r.stick_ratio, newton_iterations=r.newton_iterations,
                                           cg_iterations=r.cg_iterations, residual=r.residual, converged=r.converged,
-                                          time=r.time))
+                                          time=r.time, cell_stick=r.cell_stick))
         if turning[k]:
             F_r, tau_r, d_r, sgn, c, prev = float(F), tau, float(delta), -sgn, 2.0, None
         if progress is not None:
