@@ -238,6 +238,33 @@ def whole_burl_humid(n: int, seed: int, rh: float = 0.5) -> dict:
             "cpu_s": time.process_time() - t}
 
 
+def whole_burl_pulloff(n: int, seed: int, rh: float | None = 0.5, steps: int = 40) -> dict:
+    """The whole small burl's pull-off from the validation force (``kind = "pulloff"``) on ``n``^2
+    cells, roughness seed ``seed``: at ``rh`` with Si and SiO2 films and meniscus forces without van
+    der Waals, or (``rh`` None) dry with Dugdale adhesion (:data:`tribobem.validation.two_scale.
+    DUGDALE`).  The pull-off force and approach, the unloading curve."""
+    from tribobem.scenario import parse_scenario, run_scenario
+    from tribobem.validation.two_scale import DUGDALE
+
+    sc = _small_burl_scenario("pulloff", n, seed, {"coefficient": 0.0})
+    del sc["friction"]
+    sc["load"] = {"preload": BURLS["small"]["force"], "steps": steps, "refine": 4}
+    if rh is None:
+        sc["adhesion"] = dict(DUGDALE)
+    else:
+        sc["body1"]["film"] = {"isotherm": "Si"}
+        sc["body2"]["film"] = {"isotherm": "SiO2"}
+        sc["humidity"] = {"rh": [rh], "van_der_waals": False}
+    t = time.process_time()
+    s = run_scenario(parse_scenario(sc), outdir=None, progress=False, warn=False).summary
+    po = s["pull_off_force"][0] if isinstance(s["pull_off_force"], list) else s["pull_off_force"]
+    pa = s["pull_off_approach"][0] if isinstance(s["pull_off_approach"], list) else s["pull_off_approach"]
+    return {"n": n, "seed": seed, "rh": rh, "pull_off_force": po, "pull_off_approach": pa,
+            "converged": s["converged"], "cpu_s": time.process_time() - t,
+            "curve": {"approach": [r.get("approach") for r in s["steps"]],
+                      "force": [r.get("normal_force") for r in s["steps"]]}}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--whole", action="store_true", help="compute the whole-burl references")
@@ -247,6 +274,8 @@ def main(argv=None) -> int:
     ap.add_argument("--whole-slip", action="store_true", help="whole-burl partial-slip ramps (512^2 and 1024^2)")
     ap.add_argument("--whole-loop", action="store_true", help="whole-burl friction loops (512^2 and 1024^2)")
     ap.add_argument("--whole-humid", action="store_true", help="whole-burl humid ramps at RH 0.5 (512^2, 1024^2)")
+    ap.add_argument("--whole-pulloff", action="store_true",
+                    help="whole-burl pull-off at RH 0.5 (512^2, 1024^2) and with Dugdale adhesion (512^2, 4 seeds)")
     ap.add_argument("--real-chain", action="store_true", help="the 300 um burl's normal, ramp and loop chain")
     ap.add_argument("--out", default="results/two_scale", help="folder for the JSON records")
     args = ap.parse_args(argv)
@@ -276,6 +305,14 @@ def main(argv=None) -> int:
             rows.append(r)
             print(json.dumps(r), flush=True)
         (out / "whole_humid.json").write_text(json.dumps(rows, indent=1))
+    if args.whole_pulloff:
+        rows = []
+        for n, seed, rh in ((512, 100, 0.5), (512, 101, 0.5), *((512, sd, None) for sd in WHOLE_SEEDS),
+                            (1024, 100, 0.5)):
+            r = whole_burl_pulloff(n, seed, rh)
+            rows.append(r)
+            print(json.dumps({k: v for k, v in r.items() if k != "curve"}), flush=True)
+            (out / "whole_pulloff.json").write_text(json.dumps(rows, indent=1))
     if args.real_chain:
         rows = [real_chain(), real_chain(rh=0.5)]
         for r in rows:

@@ -130,8 +130,9 @@ def test_two_scale_runs_from_the_cli_and_writes_the_maps(tmp_path, monkeypatch):
     ({"body1.roughness": {"kind": "none"}}, "two_scale"),
     ({"load.force": None, "load.approach": "2 nm"}, "load.approach"),
     ({"adhesion": {"model": "dugdale", "work_of_adhesion": "0.1 J/m^2", "z0": "0.3 nm"}}, "adhesion.model"),
-    ({"kind": "pulloff", "load": {"preload": "1 mN"},
-      "adhesion": {"model": "dugdale", "work_of_adhesion": "0.1 J/m^2", "z0": "0.3 nm"}}, "two_scale"),
+    ({"kind": "pulloff", "load": {"preload": "1 mN", "control": "force"},
+      "adhesion": {"model": "dugdale", "work_of_adhesion": "0.1 J/m^2", "z0": "0.3 nm"}}, "load.control"),
+    ({"kind": "pulloff", "load": {"preload": "1 mN"}}, "adhesion.model"),
 ])
 def test_bad_two_scale_scenarios_name_the_key(changes, key):
     with pytest.raises(InputError) as err:
@@ -323,4 +324,47 @@ def test_a_humid_two_scale_run_takes_one_rh():
     d = slip_scenario(**{**HUMID, "humidity": {"rh": [0.3, 0.7], "van_der_waals": False}})
     with pytest.raises(InputError) as err:
         run_scenario(parse_scenario(d), outdir=None, progress=False, warn=False)
+    assert "humidity.rh" in str(err.value)
+
+
+def pulloff_scenario(**changes):
+    d = copy.deepcopy(BASE)
+    d["kind"] = "pulloff"
+    d["load"] = {"preload": "1.5 mN", "refine": 4}
+    return _override(d, changes)
+
+
+def test_a_humid_two_scale_pulloff_matches_the_whole_burl_at_rh_0p5(tmp_path):
+    from tribobem.validation.two_scale import WHOLE_BURL_PULLOFF
+
+    d = pulloff_scenario(**HUMID)
+    r = run_scenario(parse_scenario(d), outdir=tmp_path / "out", progress=False, warn=False)
+    s = r.summary
+    ref = WHOLE_BURL_PULLOFF["n512"]  # the whole burl at the windows' 20 nm cells, RH 0.5, seeds 100-101
+    assert s["converged"] and s["kind"] == "pulloff"
+    (force,) = s["pull_off_force"]
+    # measured -3.5 % against the seeds' mean (their spread is +-4.4 %); a law without the windows'
+    # tensile branch has no pull-off at all
+    assert force == pytest.approx(float(np.mean(ref["pull_off_force"])), rel=0.10)
+    ts = s["two_scale"]
+    # the most tensile nominal stress of the burl is within the windows' strength
+    assert 0 < -ts["pull_off_stress"] <= ts["strength"] * (1 + 1e-9)
+    steps = s["steps"]
+    assert steps[0]["normal_force"] == pytest.approx(1.5e-3, rel=1e-5)  # the preload
+    assert min(x["normal_force"] for x in steps) == force
+    # the burl separates: the last state carries almost nothing
+    assert abs(steps[-1]["normal_force"]) <= 1e-2 * abs(force)
+    # the menisci hold the burl at the preload (as the humid ramp's F_cap) and at pull-off
+    assert steps[0]["capillary_force"] < 0 and steps[0]["wetted_area"] > 0
+    assert (tmp_path / "out" / "fields.nc").exists()
+
+
+def test_a_two_scale_pulloff_needs_a_preload_and_one_rh():
+    d = pulloff_scenario(**HUMID, **{"load.preload": None})
+    with pytest.raises(InputError) as err:
+        parse_scenario(d)
+    assert "load.preload" in str(err.value)
+    d = pulloff_scenario(**{**HUMID, "humidity": {"rh": [0.3, 0.7], "van_der_waals": False}})
+    with pytest.raises(InputError) as err:
+        parse_scenario(d)
     assert "humidity.rh" in str(err.value)

@@ -4,8 +4,8 @@ Each point's scenario (the base with the point's overrides) is run as
 
 1. ``normal`` at the clamp load (``load.force``): real contact area, max pressure, F0+;
 2. ``pulloff`` from the clamp load as preload (``load.preload``): the pull-off force (0 N,
-   without running it, when the point has neither adhesion nor humidity; not run, and said, for
-   a ``[two_scale]`` point with adhesion: there is no adhesive interface law yet);
+   without running it, when the point has neither adhesion nor humidity; a ``[two_scale]`` point
+   unloads its windows' tensile law);
 3. ``partial_slip``: a tangential ramp to gross slip (``friction.tangential_forces``): static
    friction force and ratio, pre-sliding displacement;
 4. optionally ``hysteresis`` (``friction.path``): the lateral stiffness at Paper F's points
@@ -297,15 +297,7 @@ def run_chain(scenario: Mapping, chain: Mapping, base_dir=None) -> dict:
         # 2. pull-off from the clamp load
         adh = scenario.get("adhesion") or {}
         sticky = humid or adhesion_model(adh) != "none"  # any registered stress law but none
-        if chain.get("pulloff", True) and sticky and "two_scale" in scenario:
-            # the two-scale solve has no adhesive interface law yet: a whole-grid pull-off on the macro
-            # grid would drop the roughness (it lives in the windows), so it is not run
-            stages["pulloff"] = {"status": "skipped", "message": "two_scale: adhesive and capillary interface laws "
-                                 "are not available yet; no pull-off for a two-scale point", "elapsed": 0.0,
-                                 "converged": None}
-            warns.setdefault("design: pull-off not computed for a two-scale point (no adhesive interface law "
-                             "yet)", []).append("pulloff")
-        elif chain.get("pulloff", True) and not sticky:
+        if chain.get("pulloff", True) and not sticky:
             values["pull_off_force"] = 0.0
             stages["pulloff"] = {"status": "skipped", "message": "no adhesion and no humidity: pull-off force 0 N",
                                  "elapsed": 0.0, "converged": None}

@@ -530,7 +530,10 @@ def result_warnings(results: Sequence, *, periodic: bool, interaction=None, radi
         if touching:
             out.append(f"edge: the contact or the cohesive zone touches the edge of the free-boundary domain in "
                        f"{len(touching)} of {len(res)} saved state(s): the domain truncates it; enlarge grid.size")
-    in_contact = [r for r in res if np.asarray(r.contact, bool).any()]
+    # (a two-scale macro state's cohesive zone lives in its windows, not in the macro cells: the
+    # two-scale runner checks the windows' cells itself)
+    in_contact = [r for r in res if np.asarray(r.contact, bool).any()
+                  and not (getattr(r, "info", None) or {}).get("two_scale")]
     declared = law_result_checks(interaction)
     h0 = interaction.h0 if declared & {"cohesive_zone", "cohesive_edge", "cohesive_range"} else None
     if h0 and "cohesive_zone" in declared:

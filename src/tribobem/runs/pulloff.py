@@ -21,6 +21,7 @@ from ..output.checks import cohesive_cells
 from ..solvers.normal_paths import approach_curve, pull_off
 from .common import curve_from_rows, offset_progress, scenario_errors
 from .humid_pulloff import run as humid_run
+from .two_scale import run_pulloff as run_two_scale
 from .kind import (ALL, CAPILLARY_STEPS, RunKind, RunOutput, fail, refuse_normcg, require_elastic_body,
                    require_humidity)
 from .kind import CAPILLARY_COLUMNS, NORMAL_COLUMNS
@@ -58,6 +59,8 @@ def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
     """
     if settings is None:
         settings = SolverSettings.from_scenario(pb.scenario)
+    if pb.two_scale is not None:  # [two_scale]: the windows' tensile law, then the macro pull-off
+        return run_two_scale(pb, bar, settings)
     if getattr(pb, "humidity", None) is not None:  # [humidity]: one pull-off per RH (runs.humid_pulloff)
         return humid_run(pb, bar, settings)
     load = pb.scenario.load
@@ -126,6 +129,8 @@ def check(sc) -> None:
         Through :func:`~tribobem.runs.kind.fail`, naming the offending scenario key.
     """
     require_elastic_body(sc)
+    if sc.two_scale is not None:
+        _check_two_scale(sc)
     if sc.humidity is not None:
         require_humidity(sc)
         # What a humid pull-off does anyway may be stated; the other choice is refused.
@@ -149,6 +154,23 @@ def check(sc) -> None:
                                "work_of_adhesion and z0 (or a [humidity] section: a humid pull-off)")
 
 
+def _check_two_scale(sc) -> None:
+    """A two-scale pull-off: from a preload, under displacement control, at one RH."""
+    load = sc.load
+    if load.preload is None:
+        fail("load.preload", "a two-scale pull-off unloads from a preload: give load.preload (a compressive force, N)")
+    if "control" in load.model_fields_set and load.control != "displacement":
+        fail("load.control", "a two-scale pull-off unloads under displacement control only")
+    if "loading" in load.model_fields_set and load.loading:
+        fail("load.loading", "a two-scale pull-off has no separate loading branch (it loads to the preload on the "
+                             "windows' loading branch); leave loading out")
+    if sc.humidity is not None and len(sc.humidity.rh or []) != 1:
+        fail("humidity.rh", "a two-scale pull-off runs at one RH (its windows' menisci are tabulated at it): run one "
+                            "scenario per RH (a sweep over humidity.rh)")
+    if sc.humidity is not None and sc.adhesion.enabled:
+        fail("adhesion.model", "a two-scale pull-off takes either Dugdale adhesion or menisci ([humidity]), not both")
+
+
 KIND = RunKind(
     name="pulloff", run=run, check=check,
     summary="the pull-off force: unloading from a preload (Dugdale adhesion, or capillary with [humidity])",
@@ -157,7 +179,7 @@ KIND = RunKind(
     results={"pull_off_force": "force", "pull_off_approach": "length", "preload": "force",
              "hysteresis_energy": "energy", **CAPILLARY_STEPS},
     uses={"load": _DRY_LOAD, "humidity": ALL, "body1": ("film", "hamaker"), "body2": ("film", "hamaker"),
-          "solver": ("method",)},
+          "solver": ("method",), "two_scale": ALL},
     hints={"friction": "a pull-off is frictionless; leave [friction] out",
            **{f"load.{k}": "a pull-off unloads from load.preload (a compressive force; left out: from the "
                            "adhesive equilibrium at zero external load)"

@@ -99,7 +99,9 @@ def table_pressures(pb, settings: SolverSettings, force: float) -> tuple[np.ndar
     if lo is None or hi is None:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
-            smooth = solve_normal(pb.operator, pb.gap, force=force, **settings.normal_kw())
+            # (a kind whose path picks its own normal solver, the dry pull-off: solve_normal's default)
+            kw = settings.normal_kw() if settings.normal_method is not None else settings.path_kw()
+            smooth = solve_normal(pb.operator, pb.gap, force=force, **kw)
         mean_p = force / max(smooth.contact_area, pb.grid.dx * pb.grid.dy)
         info = {"smooth_mean_pressure": float(mean_p), "smooth_max_pressure": float(smooth.max_pressure)}
         lo = LOW_FRACTION * mean_p if lo is None else lo
@@ -452,3 +454,94 @@ def run_hysteresis(pb, bar, settings: SolverSettings) -> RunOutput:
     labels = [f"{rows[i]['branch']} {rows[i]['cycle']} step {i}" for i in keep]
     return RunOutput(rows=rows, results=[results[i] for i in keep], tangential=[tangential[i] for i in keep],
                      labels=labels, indices=keep, run=run, warnings=_slip_messages(slip_law))
+
+
+#: The unloading branches of a two-scale pull-off start from these fractions of the preload
+#: state's largest nominal pressure (a cell's law interpolates between the two that bracket its
+#: own largest pressure; below the smallest, towards the loading branch).
+UNLOADING_FRACTIONS = (1.0 / 27.0, 1.0 / 9.0, 1.0 / 3.0, 1.0)
+
+
+def _approach_result(pb, st, law, pmax) -> NormalResult:
+    """A macro state of the pull-off as a NormalResult: the net nominal pressure (negative where
+    the interface pulls) and the mean-plane separation."""
+    contact = law.column("contact_fractions", st.separation, pmax) > 0
+    return NormalResult(grid=pb.grid, pressure=st.pressure, gap=st.separation, displacement=st.displacement,
+                        contact=contact, adhesive=st.pressure < 0, force=st.force, approach=st.approach,
+                        iterations=st.newton_iterations, residual_history=np.array([st.residual]),
+                        converged=st.converged, time=0.0, control="displacement", info={"two_scale": True})
+
+
+def run_pulloff(pb, bar, settings: SolverSettings) -> RunOutput:
+    """Kind ``pulloff`` with ``[two_scale]``: load to ``load.preload``, unload to pull-off.
+
+    The windows' normal table sets the preload state's pressures; their loading and unloading
+    branches (:func:`tribobem.two_scale.tensile.tensile_interface_law`, with the run's Dugdale
+    zone or its menisci at one RH) give the tensile law, with which the burl is loaded to the
+    preload and unloaded under displacement control (:func:`~tribobem.two_scale.tensile.
+    interface_pull_off`).  Steps: the macro states from the preload to separation; run level:
+    ``pull_off_force``, ``pull_off_approach`` (lists of one with ``[humidity]``), ``preload``
+    and ``two_scale`` (both tables).
+    """
+    from ..two_scale.tensile import interface_pull_off, tensile_interface_law
+
+    sc = pb.scenario
+    ts = sc.two_scale
+    preload = float(sc.load.preload)
+    windows = dataclasses.replace(pb.two_scale, capillary=window_menisci(pb, settings))
+    bar.phase("micro windows (normal)", 1)
+    law, res, range_info = _normal_state(pb, settings, preload, windows)
+    bar(1, 1)
+    top = float(res.max_nominal_pressure)
+    preloads = np.array([f * top for f in UNLOADING_FRACTIONS])
+    preloads = preloads[preloads >= law.pressures[0]]
+    bar.phase("micro windows (loading and unloading)", 1)
+    tlaw = tensile_interface_law(windows, law, preloads, tol=settings.tolerance, max_iterations=settings.max_iterations,
+                                 scheduler=ts.scheduler, cache=ts.cache)
+    bar(1, 1)
+    bar.phase("macro unloading", None)
+    po = interface_pull_off(pb.operator.normal if len(getattr(pb.operator, "components", ("z",))) > 1 else pb.operator,
+                            pb.gap, tlaw, preload, res.approach, refine=int(sc.load.refine),
+                            tol=max(settings.tolerance, 1e-9), progress=lambda k: bar(k, None))
+    dA = pb.grid.dx * pb.grid.dy
+    rows = []
+    humid = windows.capillary is not None
+    rh = float(pb.humidity.rh[0]) if humid else None
+    for k in range(len(po.curve["force"])):
+        row = {key: po.curve[key][k] for key in po.curve}
+        row["normal_force"] = row.pop("force")
+        row.update(branch="preload" if k == 0 else "unloading", contact_area_compressive=row["contact_area"])
+        if humid:
+            row["rh"] = rh
+        rows.append(row)
+    start = _approach_result(pb, po.preload_state, tlaw, po.pmax)
+    at = _approach_result(pb, po.pull_off_state, tlaw, po.pmax)
+    messages = list(po.notes)
+    if not tlaw.converged:
+        messages.append("two_scale: a micro window solve of the loading or unloading branches did not converge")
+    if not tlaw.separated:
+        messages.append("two_scale: a micro window had not separated at the top of its separation ladder; the "
+                        "tensile law was cut to zero there")
+    h0 = getattr(windows.interaction, "h0", None)
+    if h0:
+        # the windows' Dugdale zone: the gap of neighbouring window cells differs by more than the
+        # law's range (the whole-grid check cohesive_range, on the windows' undeformed gaps)
+        jump = max(float(np.percentile(np.abs(np.diff(g, axis=a)), 99)) for g in windows.gaps for a in (0, 1))
+        if jump > h0:
+            messages.append(f"two_scale.window_n: the windows' gap changes by {jump:.3g} m = {jump / h0:.2g} h0 between "
+                            f"neighbouring cells (99th percentile; Dugdale range h0 = {h0:.3g} m): their cohesive zones "
+                            "are not resolved, so the tensile law and the pull-off are set by the window cells; refine "
+                            "two_scale.window_n")
+    if tlaw.beyond_table(po.preload_state.separation):
+        messages.append("two_scale.max_pressure: a macro cell is compressed beyond the table's ladder; the law "
+                        "was extrapolated there")
+    force, approach = float(po.force), float(po.approach)
+    run = {"pull_off_force": [force] if humid else force, "pull_off_approach": [approach] if humid else approach,
+           "pull_off_control": "displacement", "preload": preload, "preload_source": "load.preload",
+           "two_scale": {**range_info, "law": law.as_dict(), "tensile_law": tlaw.as_dict(),
+                         "strength": tlaw.strength, "pull_off_stress": force / max(float((res.pressure > 0).sum()) * dA,
+                                                                                   dA),
+                         "macro_time": po.time}}
+    i_at = int(np.argmin([r["normal_force"] for r in rows]))
+    return RunOutput(rows=rows, results=[start, at], labels=["preload", "pull-off"], indices=[0, i_at], run=run,
+                     warnings=messages)

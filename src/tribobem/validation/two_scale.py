@@ -24,6 +24,12 @@
     their menisci give the humid interface laws (the window slides at mu times its repulsive
     pressure); against whole-burl humid ramps (:data:`WHOLE_BURL_HUMID`): F0+ and static friction
     within 3 %, the meniscus force within 5 %, the displacements at 0.5 and 0.9 F_s within 10 %.
+``two_scale_pulloff``
+    The small rough burl's capillary pull-off at RH 0.5 from its validation force (windows
+    loaded and unloaded with their menisci give the tensile law, the burl unloads under
+    displacement control) against whole-burl pull-offs at the same cells
+    (:data:`WHOLE_BURL_PULLOFF`): within 10 % or the realisations' scatter.  The quick tier
+    compares 20 nm cells, the gate 10 nm.
 ``two_scale_whole_burl``
     A rough SiC burl on a Si wafer (Gaussian roughness 1.5 nm rms, 50 nm correlation length,
     about 53 MPa over the flat top) solved whole at 10 nm cells (:data:`WHOLE_BURLS`: four
@@ -53,7 +59,7 @@ from ..two_scale.micro import MicroWindows, interface_law
 from ..two_scale.tangential import interface_loop, interface_slip_law, solve_interface_tangential, window_loop_check
 from .common import ValidationRow, _row
 
-__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "WHOLE_BURL_SLIP", "WHOLE_BURL_LOOP", "WHOLE_BURL_HUMID", "PAIR", "RMS",
+__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "WHOLE_BURL_SLIP", "WHOLE_BURL_LOOP", "WHOLE_BURL_HUMID", "WHOLE_BURL_PULLOFF", "DUGDALE", "PAIR", "RMS",
            "CORRELATION", "MU", "two_scale_burl", "two_scale_burl_slip", "two_scale_burl_loop", "two_scale_burl_humid"]
 
 #: The validation pair: Si wafer (body 1, rough) and SiC burl (body 2).
@@ -89,6 +95,10 @@ WHOLE_BURL_PROFILE = [0.0021, 0.008, 0.016, 0.0281, 0.0434, 0.0625, 0.0923, 0.12
 #: quick tier recomputes (a second), so that it needs nothing committed.
 QUICK_N = 512
 
+#: Dugdale adhesion of the adhesive pull-off study (``[adhesion]``): 50 mJ/m^2, z0 0.3 nm
+#: (sigma0 = 171 MPa, h0 = 0.29 nm).
+DUGDALE = {"model": "dugdale", "work_of_adhesion": 0.05, "z0": 0.3e-9}
+
 #: Friction coefficient of the partial-slip validation.
 MU = 0.2
 
@@ -108,6 +118,20 @@ WHOLE_BURL_HUMID: dict = {
               "repulsive_force": [3.378950507e-03, 3.369601677e-03],
               "capillary_force": [-1.878476790e-03, -1.869001283e-03], "d50": [7.054696040e-10, 7.062056167e-10],
               "d90": [1.423374100e-09, 1.429257396e-09]},
+}
+
+#: Whole-burl pull-offs of the small burl from its validation force (``kind = "pulloff"``, ``load.preload
+#: = 1.5 mN``, 40 unloading steps, refine 4; ``python -m studies.two_scale --whole-pulloff``,
+#: 2026-12-03): the pull-off force (N) per roughness seed.  At RH 0.5 (Si and SiO2 films, meniscus
+#: forces without van der Waals): "n512" (20 nm cells, 64-74 s of CPU each), "n1024" (10 nm, 399 s);
+#: at 40 nm cells (256^2) the same burl pulls off at -0.902 mN: the whole burl's capillary pull-off
+#: is not converged in the cell (-0.902 / -0.640 / -0.465 mN at 40 / 20 / 10 nm).  With Dugdale
+#: adhesion (:data:`DUGDALE`, dry, 20 nm cells): -6.8427e-8 N for all four seeds, exactly sigma0
+#: times one cell's area: the whole burl's Dugdale pull-off is a count of one cell there.
+WHOLE_BURL_PULLOFF: dict = {
+    "n512": {"seeds": [100, 101], "pull_off_force": [-6.683345045e-04, -6.121722223e-04]},
+    "n1024": {"seeds": [100], "pull_off_force": [-4.648696922e-04]},
+    "dugdale_n512": {"seeds": [100, 101, 102, 103], "pull_off_force": [-6.842669857e-08] * 4},
 }
 
 #: The friction loops of the hysteresis validation: F* = 0.8 mu F, 24 steps per cycle.
@@ -364,6 +388,46 @@ def _humid_rows(quick: bool) -> list[ValidationRow]:
     return rows
 
 
+def two_scale_burl_pulloff(name: str = "small", *, window: float = 1e-6, window_n: int | None = None,
+                           realisations: int = 4, macro_n: int = 128, rh: float | None = 0.5) -> dict:
+    """The two-scale pull-off of validation burl ``name`` from its force, at ``rh`` (Si and SiO2
+    films, meniscus forces) or, with ``rh`` None, dry with :data:`DUGDALE`, from a scenario."""
+    from ..scenario import parse_scenario, run_scenario
+
+    b = BURLS[name]
+    if window_n is None:
+        window_n = int(round(window / (b["size"] / b["n"])))
+    sc = {"kind": "pulloff", "grid": {"n": macro_n, "size": b["size"]},
+          "body1": {"E": PAIR.body1.E, "nu": PAIR.body1.nu,
+                    "roughness": {"kind": "gaussian", "rms": RMS, "correlation_length": CORRELATION}},
+          "body2": {"E": PAIR.body2.E, "nu": PAIR.body2.nu,
+                    "shape": {"kind": "burl", "radius": b["radius"], "edge_radius": b["edge_radius"]}},
+          "load": {"preload": b["force"], "refine": 4},
+          "two_scale": {"window": window, "window_n": window_n, "realisations": realisations, "cache": False}}
+    if rh is None:
+        sc["adhesion"] = dict(DUGDALE)
+    else:
+        sc["body1"]["film"] = {"isotherm": "Si"}
+        sc["body2"]["film"] = {"isotherm": "SiO2"}
+        sc["humidity"] = {"rh": rh, "van_der_waals": False}
+    t = time.process_time()
+    s = run_scenario(parse_scenario(sc), outdir=None, progress=False, warn=False).summary
+    force = s["pull_off_force"][0] if rh is not None else s["pull_off_force"]
+    return {"pull_off_force": float(force), "strength": s["two_scale"]["strength"], "converged": bool(s["converged"]),
+            "warnings": s["warnings"], "cpu_s": time.process_time() - t}
+
+
+def _pulloff_rows(quick: bool) -> list[ValidationRow]:
+    case = "two_scale_pulloff"
+    key = "n512" if quick else "n1024"
+    ref = WHOLE_BURL_PULLOFF[key]
+    ts = two_scale_burl_pulloff("small", window_n=50 if key == "n512" else 100)
+    v = float(np.mean(ref["pull_off_force"]))
+    spread = float(np.ptp(ref["pull_off_force"])) / 2 / abs(v)
+    return [_row(case, f"small burl, {key}: capillary pull-off force at RH 0.5 (N)", v, ts["pull_off_force"],
+                 max(0.10, spread))]
+
+
 def _smooth_rows(quick: bool) -> list[ValidationRow]:
     case = "two_scale_smooth"
     pair = ContactPair(Material(100e9, 0.3), Material.rigid())
@@ -451,4 +515,5 @@ CASES = {
     "two_scale_partial_slip": _slip_rows,
     "two_scale_hysteresis": _loop_rows,
     "two_scale_humid": _humid_rows,
+    "two_scale_pulloff": _pulloff_rows,
 }
