@@ -88,12 +88,15 @@ d = tomllib.load(open(sys.argv[1], "rb"))
 d["two_scale"]["window_n"] = int(sys.argv[2])
 out = {"window_n": int(sys.argv[2])}
 t0 = time.process_time()
-stages = {"normal": {}, "ramp": {"kind": "partial_slip", "friction": {"coefficient": 0.2, "tangential_forces": "auto"}},
+stages = {"normal": {}, "pulloff": {"kind": "pulloff", "load": {"preload": d["load"]["force"], "refine": 4}},
+          "ramp": {"kind": "partial_slip", "friction": {"coefficient": 0.2, "tangential_forces": "auto"}},
           "hysteresis": {"kind": "hysteresis", "friction": {"coefficient": 0.2, "path": {
               "control": "force", "amplitude": 0.9, "cycles": 1, "steps": 24}}}}
 rh = None if sys.argv[3] == "dry" else float(sys.argv[3])
 out["rh"] = rh
 for name, change in stages.items():
+    if name == "pulloff" and rh is None:
+        continue  # dry and without adhesion: nothing pulls
     sc = dict(d, **change)
     if rh is not None and name != "normal":  # the normal kind is dry; the humid ramp's first state is not
         sc["body1"] = dict(sc["body1"], film={"isotherm": "Si"})
@@ -106,6 +109,8 @@ for name, change in stages.items():
         st = s["steps"][0]
         r.update(approach=st["approach"], contact_area=st["contact_area"], max_pressure=st["max_pressure"],
                  nominal_contact_area=st["nominal_contact_area"])
+    elif name == "pulloff":
+        r.update(pull_off_force=s["pull_off_force"][0], strength=s["two_scale"]["strength"])
     elif name == "ramp":
         r.update(static_friction_force=s["static_friction_force"], d50=s["displacement_at_half_static_friction"],
                  d90=s["displacement_at_0p9_static_friction"], presliding=s["presliding_displacement"],
@@ -122,8 +127,9 @@ print(json.dumps(out))
 
 
 def real_chain(window_n: int = 400, rh: float | None = None) -> dict:
-    """The real-size burl's chain (normal at 0.3 N, ramp to gross slip, one friction loop at 0.9 of
-    the static friction; the ramp and the loop at ``rh`` with Si and SiO2 films, or dry) in one
+    """The real-size burl's chain (normal at 0.3 N, pull-off from it at ``rh``, ramp to gross slip,
+    one friction loop at 0.9 of the static friction; the pull-off, the ramp and the loop at ``rh``
+    with Si and SiO2 films, or dry without a pull-off) in one
     fresh process with an empty table cache: CPU time and peak memory of the whole chain."""
     import subprocess
     import sys
@@ -277,6 +283,7 @@ def main(argv=None) -> int:
     ap.add_argument("--whole-pulloff", action="store_true",
                     help="whole-burl pull-off at RH 0.5 (512^2, 1024^2) and with Dugdale adhesion (512^2, 4 seeds)")
     ap.add_argument("--real-chain", action="store_true", help="the 300 um burl's normal, ramp and loop chain")
+    ap.add_argument("--humid-only", action="store_true", help="with --real-chain: the chain at RH 0.5 only")
     ap.add_argument("--out", default="results/two_scale", help="folder for the JSON records")
     args = ap.parse_args(argv)
     out = Path(args.out)
@@ -314,7 +321,7 @@ def main(argv=None) -> int:
             print(json.dumps({k: v for k, v in r.items() if k != "curve"}), flush=True)
             (out / "whole_pulloff.json").write_text(json.dumps(rows, indent=1))
     if args.real_chain:
-        rows = [real_chain(), real_chain(rh=0.5)]
+        rows = [real_chain(rh=0.5)] if args.humid_only else [real_chain(), real_chain(rh=0.5)]
         for r in rows:
             print(json.dumps(r), flush=True)
         (out / "real_chain.json").write_text(json.dumps(rows, indent=1))

@@ -250,10 +250,12 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
                           "(the warning below says where gross slip sets in)")
         if not view.humid_friction:
             _print_loop(summary, console)
-    if view.humid_pulloff:  # one pull-off force per RH
+    if view.humid_pulloff:  # one pull-off force per RH: the run's lists, else the steps' (one per RH)
+        pairs = (list(zip(summary["pull_off_force"], summary["rh"]))
+                 if isinstance(summary.get("rh"), list) and isinstance(summary.get("pull_off_force"), list)
+                 else [(s.get("pull_off_force"), s.get("rh")) for s in steps if s.get("rh") is not None])
         console.print("pull-off force: " + ", ".join(
-            f"[bold]{format_quantity(s.get('pull_off_force'), 'force', 4)}[/bold] at RH {s.get('rh'):g}"
-            for s in steps if s.get("rh") is not None))
+            f"[bold]{format_quantity(f, 'force', 4)}[/bold] at RH {rh:g}" for f, rh in pairs))
     elif summary.get("pull_off_force") is not None:
         console.print(f"pull-off force: [bold]{format_quantity(summary['pull_off_force'], 'force', 4)}[/bold] "
                       f"at approach {format_quantity(summary.get('pull_off_approach'), 'length', 4)}")

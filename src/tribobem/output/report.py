@@ -431,9 +431,11 @@ def _capillary_section(s: dict, hum: dict, figures: dict) -> list:
     rows = _humidity_rows(hum)
     if isinstance(s.get("pull_off_force"), list):
         steps = s.get("steps") or []
+        # the run's lists in RH order where it has them (a two-scale pull-off), else one step per RH
+        pairs = (list(zip(s["rh"], s["pull_off_force"])) if isinstance(s.get("rh"), list)
+                 else [(st.get("rh"), st.get("pull_off_force")) for st in steps if st.get("rh") is not None])
         rows.append(("pull-off force per RH", "; ".join(
-            f"RH {100 * float(st.get('rh')):.3g} %: {_fmt(st.get('pull_off_force'), 'force')}"
-            for st in steps if st.get("rh") is not None)))
+            f"RH {100 * float(rh):.3g} %: {_fmt(f, 'force')}" for rh, f in pairs)))
         rows.append(("unloading starts from", f"{_fmt(s.get('preload'), 'force')} ({s.get('preload_source', '')})"))
     parts.append("<table>")
     parts += [f"<tr><th class='l'>{e(a)}</th><td class='l'>{e(b)}</td></tr>" for a, b in rows]
@@ -780,7 +782,11 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
                                              f"{format_quantity(run_ts['pressure_length_edge'], 'length')} at its edge)"))
     solver = [f"normal solver {prob['normal_method']}"] if prob.get("normal_method") and not ts else []
     if ts:
-        solver.append("micro windows: Polonsky-Keer force path; macro: projected Newton with the interface law")
+        if s.get("kind") == "pulloff":
+            solver.append("micro windows: loading and unloading under displacement control; macro: Newton with "
+                          "MINRES on the tensile interface law, unloading under displacement control")
+        else:
+            solver.append("micro windows: Polonsky-Keer force path; macro: projected Newton with the interface law")
     if prob.get("backend"):
         solver.append(f"backend {prob['backend']}" + (f", FFT engine {prob['fft']}" if prob.get("fft") else ""))
     if solver:  # what [solver] method = "auto" and backend stood for

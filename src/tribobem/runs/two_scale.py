@@ -507,12 +507,18 @@ def run_pulloff(pb, bar, settings: SolverSettings) -> RunOutput:
     rows = []
     humid = windows.capillary is not None
     rh = float(pb.humidity.rh[0]) if humid else None
-    for k in range(len(po.curve["force"])):
+    for k, st in enumerate(po.states):
         row = {key: po.curve[key][k] for key in po.curve}
         row["normal_force"] = row.pop("force")
-        row.update(branch="preload" if k == 0 else "unloading", contact_area_compressive=row["contact_area"])
-        if humid:
-            row["rh"] = rh
+        pulls = st.pressure < 0
+        row.update(branch="preload" if k == 0 else "unloading", contact_area_compressive=row["contact_area"],
+                   # the windows' largest asperity pressure at the compressed cells' nominal pressure
+                   # (their loading table); none where no cell is compressed (the menisci outpull the contacts)
+                   max_pressure=float(law.max_pressure(np.maximum(st.pressure, 0.0)).max()) if np.any(st.pressure > 0)
+                   else None,
+                   max_nominal_pressure=float(st.pressure.max()), adhesive_area=float(pulls.sum() * dA),
+                   adhesive_force=float(st.pressure[pulls].sum() * dA), mean_gap=float(np.mean(st.separation)),
+                   iterations=int(st.newton_iterations), residual=float(st.residual))
         rows.append(row)
     start = _approach_result(pb, po.preload_state, tlaw, po.pmax)
     at = _approach_result(pb, po.pull_off_state, tlaw, po.pmax)
@@ -537,6 +543,7 @@ def run_pulloff(pb, bar, settings: SolverSettings) -> RunOutput:
                         "was extrapolated there")
     force, approach = float(po.force), float(po.approach)
     run = {"pull_off_force": [force] if humid else force, "pull_off_approach": [approach] if humid else approach,
+           **({"rh": [rh]} if humid else {}),
            "pull_off_control": "displacement", "preload": preload, "preload_source": "load.preload",
            "two_scale": {**range_info, "law": law.as_dict(), "tensile_law": tlaw.as_dict(),
                          "strength": tlaw.strength, "pull_off_stress": force / max(float((res.pressure > 0).sum()) * dA,

@@ -529,6 +529,8 @@ class InterfacePullOff:
     converged : bool
         Every macro state converged and the burl separated.
     notes : list of str
+    states : list of ApproachState
+        Every macro state, in the order of ``curve``.
     time : float
     """
 
@@ -540,6 +542,7 @@ class InterfacePullOff:
     approach: float
     converged: bool
     notes: list
+    states: list = field(default_factory=list)
     time: float = 0.0
 
 
@@ -635,6 +638,8 @@ def interface_pull_off(op, h, law: TensileInterfaceLaw, preload: float, approach
         lo, hi = states[i + 1].approach, states[i - 1].approach
         for d in np.linspace(hi, lo, 2 * refine + 1)[1:-1]:
             near = min(states, key=lambda s: abs(s.approach - d))
+            if abs(near.approach - d) <= 1e-6 * law.step:
+                continue  # the most tensile state itself
             states.append(solve_interface_at_approach(op, h, law, float(d), pmax, initial=near.pressure, tol=tol, c0=c0))
         states.sort(key=lambda s: -s.approach)
     at = min(states, key=lambda s: s.force)
@@ -649,4 +654,4 @@ def interface_pull_off(op, h, law: TensileInterfaceLaw, preload: float, approach
     curve = {k: [r[k] for r in rows] for k in rows[0]}
     return InterfacePullOff(preload_state=start, pull_off_state=at, pmax=pmax, curve=curve, force=float(at.force),
                             approach=float(at.approach), converged=bool(separated and not bad), notes=notes,
-                            time=time.perf_counter() - t0)
+                            states=states, time=time.perf_counter() - t0)
