@@ -107,3 +107,20 @@ def test_a_table_being_computed_elsewhere_is_waited_for_not_computed_twice(tmp_p
         t.join()
     assert calls == [3] and sorted(o["cached"] for o in out) == [False, True, True]
     assert all(o["value"] == 3 for o in out) and not list(tmp_path.glob("*.lock"))
+
+
+def test_a_lock_left_by_a_killed_run_is_taken_over(tmp_path):
+    import socket
+    import subprocess
+    import sys
+    import time
+
+    from tribobem.two_scale.micro import _cached_call
+
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    (tmp_path / "k.lock").write_text(f"{socket.gethostname()} {int(dead.stdout)}")
+    t = time.perf_counter()
+    out = _cached_call(lambda x: {"value": x}, {"x": 5}, "k", str(tmp_path))
+    # computed at once, not after the hour a lock of unknown holder is waited for
+    assert out["value"] == 5 and not out["cached"] and time.perf_counter() - t < 5.0
+    assert not (tmp_path / "k.lock").exists()

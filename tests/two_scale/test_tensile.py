@@ -89,3 +89,27 @@ def test_softening_law_on_a_free_grid_matches_a_dense_solve():
         ref = _dense_newton(G, h.ravel(), law, delta)
         assert np.max(np.abs(st.pressure.ravel() - ref)) <= 1e-6 * sig
         prev = st.pressure
+
+
+def test_a_flat_periodic_interface_pulls_off_at_its_strength():
+    """A flat interface on a periodic grid carries a uniform pressure p = P(-delta) (no q = 0
+    displacement): the pull-off force is the law's strength times the area, reached from the
+    preload with adaptive steps and the refinement about the minimum."""
+    from tribobem.two_scale.tensile import interface_pull_off
+
+    n, L = 16, 4e-6
+    grid = Grid(n, n, L, L, periodic=True)
+    sig, rho = 3e6, 1.5e-9
+
+    def P(s, j=0):  # a stiff wall below 0, exponential cohesion above (minimum -sig at s = rho)
+        return np.where(s < 0, -1e17 * s, -sig * (s / rho) * np.exp(1 - s / rho))
+
+    law = _law(P, s=np.linspace(-3e-9, 40e-9, 43001))
+    law.step = rho / 16
+    po = interface_pull_off(periodic_operator(grid, PAIR), np.zeros(grid.shape), law, 1e6 * L * L, 0.0,
+                            n_steps=20, refine=4)
+    assert po.converged
+    assert po.preload_state.force == pytest.approx(1e6 * L * L, rel=1e-6)  # 1 MPa
+    assert po.force == pytest.approx(-sig * L * L, rel=1e-4)
+    # the separation at pull-off is the law's own (delta = -rho), to a fraction of a step
+    assert po.approach == pytest.approx(-rho, abs=0.2 * law.step)

@@ -22,6 +22,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import socket
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -231,6 +232,25 @@ def _largest_patch_cells(contact: np.ndarray) -> float:
 STALE_LOCK = 3600.0
 
 
+def _holder_gone(lock: Path) -> bool:
+    """Whether the lock's holder was a process on this machine that no longer runs (a killed run
+    leaves its lock behind; one on another machine of a cluster is judged by its age alone)."""
+    try:
+        host, pid = lock.read_text().split()
+        pid = int(pid)
+    except (OSError, ValueError):
+        return False  # being written just now, or not ours to judge
+    if host != socket.gethostname():
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    except PermissionError:
+        return False
+    return False
+
+
 def _read_table(path: Path) -> dict | None:
     try:
         table = json.loads(path.read_text())
@@ -258,7 +278,9 @@ def _cached_call(fn, kwargs: dict, key: str, cache_dir: str | None) -> dict:
         lock = path.with_suffix(".lock")
         while True:
             try:
-                os.close(os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+                fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+                os.write(fd, f"{socket.gethostname()} {os.getpid()}".encode())
+                os.close(fd)
             except FileExistsError:
                 pass
             else:
@@ -271,7 +293,7 @@ def _cached_call(fn, kwargs: dict, key: str, cache_dir: str | None) -> dict:
                 return table
             # another process holds the lock: wait for its table (or take over a stale lock)
             try:
-                stale = time.time() - lock.stat().st_mtime > STALE_LOCK
+                stale = time.time() - lock.stat().st_mtime > STALE_LOCK or _holder_gone(lock)
             except FileNotFoundError:
                 continue  # released just now
             if stale:

@@ -34,7 +34,7 @@ the interface's tensile strength: the system is indefinite there; Jacobi-precond
 search on max |r|.  A cell whose softening is steeper than its own elastic stiffness (C > -c_0,
 c_0 the cell's self-compliance) has no unique state: the macro cells are then too coarse for the
 law and the solve says so.  :func:`interface_pull_off` loads to the preload force, then unloads
-in steps of the law's separation step until the burl has separated; the pull-off force is the
+in steps that adapt to the force (from the law's separation step) until the burl has separated; the pull-off force is the
 most tensile force of that curve, refined between its neighbours (as the whole-grid pull-off).
 """
 
@@ -581,10 +581,11 @@ def _preload(op, h, law, force: float, approach0: float, tol: float, c0: float, 
     return b
 
 
-def interface_pull_off(op, h, law: TensileInterfaceLaw, preload: float, approach0: float, *, refine: int = 4,
-                       tol: float = 1e-8, max_steps: int = 400, progress=None) -> InterfacePullOff:
-    """Load to ``preload`` (N) on the loading branch, then unload under displacement control in
-    steps of the law's separation step until the burl has separated (module docstring).
+def interface_pull_off(op, h, law: TensileInterfaceLaw, preload: float, approach0: float, *, n_steps: int = 40,
+                       refine: int = 4, tol: float = 1e-8, max_steps: int = 400, progress=None) -> InterfacePullOff:
+    """Load to ``preload`` (N) on the loading branch, then unload under displacement control until
+    the burl has separated (module docstring): the approach steps start at the law's separation
+    step and adapt so that the force changes by about its expected range over ``n_steps``.
 
     Parameters
     ----------
@@ -597,6 +598,8 @@ def interface_pull_off(op, h, law: TensileInterfaceLaw, preload: float, approach
         The preload force (N, > 0).
     approach0 : float
         A first guess of the preload's approach (m; the normal interface law's).
+    n_steps : int
+        About how many unloading steps the force's range should take.
     refine : int
         ``2 refine - 1`` finer steps between the most tensile state's neighbours.
     tol : float
@@ -617,24 +620,46 @@ def interface_pull_off(op, h, law: TensileInterfaceLaw, preload: float, approach
     start = _preload(op, h, law, float(preload), float(approach0), tol, c0)
     pmax = np.maximum(start.pressure, 0.0)
     states = [start]
-    prev, fmin, separated = start, start.force, False
-    for k in range(max_steps):
+    # the approach steps adapt to the force: about n_steps steps over the force's expected range
+    # (the preload down to the windows' strength over the loaded area); a large burl's elastic
+    # displacement spans many of the law's separation steps
+    target = (abs(float(preload)) + law.strength * float(np.count_nonzero(start.pressure)) * dA) / max(n_steps, 2)
+    step, smallest, largest = law.step, law.step, 4096.0 * law.step
+    prev, fmin, separated, k = start, start.force, False, 0
+    while k < max_steps:
         # a secant predictor from the last two states (the first step starts from the preload's)
-        guess = prev.pressure if len(states) < 2 else 2.0 * prev.pressure - states[-2].pressure
-        st = solve_interface_at_approach(op, h, law, prev.approach - law.step, pmax, initial=guess, tol=tol, c0=c0)
+        if len(states) < 2:
+            guess = prev.pressure
+        else:
+            ratio = step / max(states[-2].approach - prev.approach, smallest)
+            guess = prev.pressure + ratio * (prev.pressure - states[-2].pressure)
+        st = solve_interface_at_approach(op, h, law, prev.approach - step, pmax, initial=guess, tol=tol, c0=c0)
+        if not st.converged and step > smallest:
+            step = max(0.5 * step, smallest)  # too far for Newton from here: a shorter step
+            continue
+        change = abs(st.force - prev.force)
+        if change > 2.0 * target and step > smallest:
+            step = max(0.5 * step, smallest)  # the force moved too much: redo it shorter
+            continue
         states.append(st)
+        k += 1
         fmin = min(fmin, st.force)
         prev = st
         if progress is not None:
-            progress(k + 1)
+            progress(k)
+        if change < 0.5 * target:
+            step = min(2.0 * step, largest)
         if fmin < 0 and abs(st.force) <= SEPARATED * abs(fmin):
             separated = True
             break
     if not separated:
         notes.append(f"two_scale: the burl had not separated after {max_steps} unloading steps "
                      f"(force {prev.force:.4g} N, most tensile {fmin:.4g} N)")
-    i = int(np.argmin([s.force for s in states]))
-    if refine > 0 and 0 < i < len(states) - 1:
+    # refine about the most tensile state until its neighbours are within two separation steps
+    for _ in range(4 if refine > 0 else 0):
+        i = int(np.argmin([s.force for s in states]))
+        if not 0 < i < len(states) - 1:
+            break
         lo, hi = states[i + 1].approach, states[i - 1].approach
         for d in np.linspace(hi, lo, 2 * refine + 1)[1:-1]:
             near = min(states, key=lambda s: abs(s.approach - d))
@@ -642,6 +667,8 @@ def interface_pull_off(op, h, law: TensileInterfaceLaw, preload: float, approach
                 continue  # the most tensile state itself
             states.append(solve_interface_at_approach(op, h, law, float(d), pmax, initial=near.pressure, tol=tol, c0=c0))
         states.sort(key=lambda s: -s.approach)
+        if hi - lo <= 2.0 * law.step:
+            break
     at = min(states, key=lambda s: s.force)
     unstable = max(s.unstable_cells for s in states)
     if unstable:
