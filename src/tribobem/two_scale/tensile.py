@@ -65,6 +65,10 @@ STEPS_PER_RANGE = 16
 TOP_RANGES = 3.0
 #: A window counts as separated once its force is within this fraction of its most tensile one.
 SEPARATED = 1e-3
+#: A macro Newton solve stops once its residual has not halved in this many iterations.
+STALL = 8
+#: Bisections that locate the approach where the burl jumps off (no equilibrium beyond it).
+JUMP_BISECTIONS = 4
 #: Columns every branch carries besides the net pressure.
 COLUMNS = ("contact_fractions", "repulsive_pressures", "capillary_pressures", "wetted_fractions")
 
@@ -447,10 +451,18 @@ def solve_interface_at_approach(op, h, law: TensileInterfaceLaw, approach: float
     scale = max(law.strength, float(np.max(np.abs(P))), 1.0)
     r = p - P
     residual = float(np.max(np.abs(r))) / scale
+    best, since = residual, 0
     for it in range(1, max_newton + 1):
         if residual <= tol:
             converged = True
             break
+        # stagnation: no halving of the residual in STALL iterations (no equilibrium near here)
+        if residual < 0.5 * best:
+            best, since = residual, 0
+        else:
+            since += 1
+            if since >= STALL:
+                break
         active = np.abs(D) * c0 > 1e-12
         C = np.where(active, -1.0 / np.where(active, D, 1.0), 0.0)
         unstable = int(np.count_nonzero(active & (C < 0) & (C > -c0)))
@@ -509,6 +521,21 @@ def _symmetric_solve(A, b, rtol: float, rounds: int = 6, maxiter: int = 1000):
         total += count[0]
         x += dx
     return x, total
+
+
+def _locate_jump(op, h, law, pmax, last, bad: float, tol: float, c0: float, states: list) -> float:
+    """Bisect between the last equilibrium ``last`` and the approach ``bad`` (m) where none was
+    found, appending the equilibria found to ``states``; returns the first approach without one."""
+    good = last
+    for _ in range(JUMP_BISECTIONS):
+        mid = 0.5 * (good.approach + bad)
+        st = solve_interface_at_approach(op, h, law, mid, pmax, initial=good.pressure, tol=tol, c0=c0)
+        if st.converged:
+            states.append(st)
+            good = st
+        else:
+            bad = mid
+    return float(bad)
 
 
 @dataclass
@@ -637,6 +664,16 @@ def interface_pull_off(op, h, law: TensileInterfaceLaw, preload: float, approach
         if not st.converged and step > smallest:
             step = max(0.5 * step, smallest)  # too far for Newton from here: a shorter step
             continue
+        if not st.converged and fmin < 0:
+            # no equilibrium next to the last one, past the force's turn: the interface softens
+            # faster than the burl's elasticity can follow, and the burl jumps off (as a JKR
+            # contact does); locate the jump between the last state and this approach
+            jump = _locate_jump(op, h, law, pmax, prev, st.approach, tol, c0, states)
+            notes.append(f"two_scale: the burl jumps off at an approach of {jump:.4g} m (no equilibrium beyond it "
+                         "under displacement control: the interface softens faster than the burl's elastic "
+                         "stiffness); the pull-off force is the most tensile state before the jump")
+            separated = True
+            break
         change = abs(st.force - prev.force)
         if change > 2.0 * target and step > smallest:
             step = max(0.5 * step, smallest)  # the force moved too much: redo it shorter

@@ -132,6 +132,7 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
     # two_scale (seconds: the whole burls' numbers are committed, only the two-scale side runs)
     "two_scale_smooth": "full", "two_scale_layer": "full", "two_scale_whole_burl": "full",
     "two_scale_partial_slip": "full", "two_scale_hysteresis": "full", "two_scale_humid": "full",
+    "two_scale_pulloff": "full",
 }
 
 
