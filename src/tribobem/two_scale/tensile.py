@@ -451,7 +451,7 @@ def solve_interface_at_approach(op, h, law: TensileInterfaceLaw, approach: float
     scale = max(law.strength, float(np.max(np.abs(P))), 1.0)
     r = p - P
     residual = float(np.max(np.abs(r))) / scale
-    best, since = residual, 0
+    best, since, it = residual, 0, 0
     for it in range(1, max_newton + 1):
         if residual <= tol:
             converged = True
@@ -480,12 +480,10 @@ def solve_interface_at_approach(op, h, law: TensileInterfaceLaw, approach: float
             return (S * (mask * op.apply(mask * x) + C * x) + (1.0 - mask) * x).ravel()
 
         A = LinearOperator((n, n), matvec=matvec, dtype=float)
-        count = [0]
         # inexact Newton: the linear solve is only as tight as the outer residual needs
         y, k = _symmetric_solve(A, (S * rhs).ravel(), float(np.clip(0.1 * residual, 1e-10, 1e-3)))
         x = S.ravel() * y
-        count[0] += k
-        total_linear += count[0]
+        total_linear += k
         dp = np.where(active, x.reshape(h.shape), dp)
         alpha = 1.0
         for _ in range(12):
@@ -709,7 +707,7 @@ def interface_pull_off(op, h, law: TensileInterfaceLaw, preload: float, approach
     at = min(states, key=lambda s: s.force)
     unstable = max(s.unstable_cells for s in states)
     if unstable:
-        notes.append(f"two_scale.macro_n: in {unstable} macro cell(s) the interface law softens faster than the cell's "
+        notes.append(f"grid.n: in {unstable} macro cell(s) the interface law softens faster than the cell's "
                      "own elastic stiffness (dP/ds > 1/c0): the state there is not unique; refine the macro cells")
     bad = sum(not s.converged for s in states)
     if bad:

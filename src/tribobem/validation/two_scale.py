@@ -59,8 +59,9 @@ from ..two_scale.micro import MicroWindows, interface_law
 from ..two_scale.tangential import interface_loop, interface_slip_law, solve_interface_tangential, window_loop_check
 from .common import ValidationRow, _row
 
-__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "WHOLE_BURL_SLIP", "WHOLE_BURL_LOOP", "WHOLE_BURL_HUMID", "WHOLE_BURL_PULLOFF", "DUGDALE", "PAIR", "RMS",
-           "CORRELATION", "MU", "two_scale_burl", "two_scale_burl_slip", "two_scale_burl_loop", "two_scale_burl_humid"]
+__all__ = ["CASES", "BURLS", "WHOLE_BURLS", "WHOLE_BURL_SLIP", "WHOLE_BURL_LOOP", "WHOLE_BURL_HUMID",
+           "WHOLE_BURL_PULLOFF", "DUGDALE", "PAIR", "RMS", "CORRELATION", "MU", "two_scale_burl", "two_scale_burl_slip",
+           "two_scale_burl_loop", "two_scale_burl_humid", "two_scale_burl_pulloff"]
 
 #: The validation pair: Si wafer (body 1, rough) and SiC burl (body 2).
 PAIR = ContactPair(Material(130e9, 0.28), Material(410e9, 0.14))
