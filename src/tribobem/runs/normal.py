@@ -125,8 +125,9 @@ def check(sc) -> None:
             fail("load.unload", "a two-scale run traces the loading branch (the normal interface law has no "
                                 "unloading hysteresis without adhesion); leave unload out")
         if sc.adhesion.model != "none":
-            fail("adhesion.model", "a two-scale normal run takes a non-adhesive interface; adhesive interface "
-                                   "laws (the tensile branch) are not available yet: run the whole grid")
+            fail("adhesion.model", "a two-scale normal run takes a non-adhesive interface (the windows' Dugdale "
+                                   "tensile law serves the two-scale pull-off only, kind = 'pulloff'); run the whole "
+                                   "grid")
 
 
 KIND = RunKind(

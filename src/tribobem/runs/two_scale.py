@@ -71,8 +71,8 @@ def check_two_scale_tangential(sc, what: str) -> None:
         fail("humidity.rh", f"a two-scale {what} runs at one RH (its windows' menisci are tabulated at it); "
              f"got {list(sc.humidity.rh or [])}: run one scenario per RH (a sweep over humidity.rh)")
     if sc.adhesion.model != "none":
-        fail("adhesion.model", "a two-scale run takes a non-adhesive interface; adhesive interface laws are not "
-                               "available yet: run the whole grid")
+        fail("adhesion.model", f"a two-scale {what} takes a non-adhesive interface (the windows' Dugdale tensile "
+                               "law serves the two-scale pull-off only, kind = 'pulloff'); run the whole grid")
 
 
 def table_pressures(pb, settings: SolverSettings, force: float) -> tuple[np.ndarray, dict]:
