@@ -36,6 +36,7 @@ import numpy as np
 
 from ..errors import ConvergenceWarning, InputError
 from ..solvers.capillary import solve_capillary
+from ..two_scale.tensile import attraction_range
 from .capillary import capillary_options, capillary_row, films_at, step_fields, step_maps
 from .kind import RunOutput
 from .settings import SolverSettings
@@ -50,14 +51,12 @@ SEPARATED = 1e-3
 
 def _interaction_range(pb, opts: dict, f1, f2) -> float:
     """Largest gap (m) at which an attraction can still switch on or off: the Dugdale range h0
-    or the meniscus cut height S = |r_k| (cos t1 + cos t2) + e1 + e2 plus the critical distance."""
-    rng = pb.interaction.h0 if pb.interaction is not None else 0.0
-    rk = abs(float(opts["kelvin_radius"]))
-    if math.isfinite(rk):
-        t1, t2 = opts["contact_angles"]
-        s = rk * (math.cos(t1) + math.cos(t2)) + float(np.max(f1.thickness)) + float(np.max(f2.thickness))
-        rng = max(rng, s + float(opts["critical_distance"]))
-    return rng if rng > 0 else float(opts["cutoff"])
+    or the meniscus cut height (:func:`tribobem.two_scale.tensile.attraction_range`, which the
+    two-scale windows use too); the short-range cut-off when nothing attracts."""
+    try:
+        return attraction_range(pb.interaction, {"film1": f1.thickness, "film2": f2.thickness, "options": opts})
+    except InputError:
+        return float(opts["cutoff"])
 
 
 def humid_pull_off(pb, rh: float, f1, f2, *, preload: float | None, n_steps: int, refine: int, tol: float,
