@@ -3,6 +3,30 @@
 A constant tensile stress ``-sigma0`` acts where 0 < g < h0, nothing beyond (Paper A
 Eq. 13), with ``sigma0 = 16 dgamma / (9 sqrt(3) z0)`` and ``h0 = dgamma / sigma0 =
 9 sqrt(3) z0 / 16 = 0.974 z0`` (Paper D misprints h0 as 9 sqrt(3) z0).
+
+Two discretisations of the law on the grid:
+
+* :class:`DugdaleAdhesion`, the step (the thesis' discretisation): a node carries -sigma0
+  while its gap is below h0.  A node whose gap lies within sigma0 C of h0 (C the cell's
+  self-compliance, 1.12 dx / E* for a square cell) is consistent both in and out of the zone:
+  its own tension closes its gap by sigma0 C.  The discrete problem then has many equilibria,
+  which differ by such edge nodes, and each solver (and each start) stops on one of them.
+* :class:`SoftenedDugdale` (the default of ``[adhesion] model = "dugdale"``): the step is
+  replaced by a linear ramp of width w centred on h0, -sigma0 below h0 - w/2, 0 above h0 + w/2.
+  It keeps the work of adhesion (the area under the law, sigma0 h0) and, read as a sub-cell
+  model, gives each cell the tension sigma0 times the part of the cell inside the zone, for a
+  gap that varies by w across the cell.  The criterion for one equilibrium per node: a node
+  under a fixed load from the others solves g = g_ext + C s(g), whose left side minus the right
+  is strictly increasing when the law's slope sigma0 / w is below the cell's own stiffness
+  1 / C, i.e. w > sigma0 C.  tribobem takes w = 2 sigma0 C (:data:`SOFTENING`): the node's
+  equation then has a slope of at least 1/2, and Polonsky-Keer and NormCG stop on the same
+  state.  As the cell shrinks w -> 0 and the law becomes Dugdale's.  Where w would exceed 2 h0
+  (a cell so coarse that sigma0 C > h0) the law becomes a triangle from g = 0 with the same
+  slope and work, sigma0' = 2 dgamma / w' below sigma0, w' = sqrt(2 h0 w).
+
+What the softening cannot remove is a physical instability: a flat top under displacement
+control at a separation near h0, or the jump-in and jump-off of a sphere under force control,
+are many-valued in the continuous problem too.
 """
 
 from __future__ import annotations
@@ -11,6 +35,10 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InputError
+
+#: Width of the softened law's ramp in units of sigma0 x the cell's self-compliance: twice the
+#: least width (sigma0 C) at which a node's equilibrium is single-valued.
+SOFTENING = 2.0
 
 
 @dataclass(frozen=True)
@@ -225,3 +253,159 @@ class DugdaleAdhesion:
         """
         k = 2.0 * 16.0 / (9.0 * math.sqrt(3.0) * z0) * (9.0 * radius / (16.0 * math.pi * effective_modulus**2)) ** (1.0 / 3.0)
         return cls((lam / k) ** 1.5, z0)
+
+
+@dataclass(frozen=True)
+class SoftenedDugdale(DugdaleAdhesion):
+    """Dugdale adhesion with the step at h0 softened to a ramp of width ``width`` (module docstring).
+
+    Parameters
+    ----------
+    work_of_adhesion : float
+        Delta gamma in J/m^2 (> 0).
+    z0 : float
+        Equilibrium separation of the Lennard-Jones potential in m (> 0).
+    width : float
+        Width w of the ramp (m, >= 0); 0 is the step law.  :meth:`for_cell` takes it from the
+        cell's self-compliance.
+
+    Notes
+    -----
+    ``sigma0`` and ``h0`` stay Dugdale's (the checks, the Tabor and Maugis parameters and the
+    reports read them); ``floor`` and ``range`` are the softened law's.
+    """
+
+    width: float = 0.0
+
+    #: Without two-way edge nodes the cohesive-edge band is empty by construction.
+    result_checks = frozenset({"cohesive_zone", "cohesive_range"})
+    report_rows = DugdaleAdhesion.report_rows + (("softening_width", "Dugdale softening width w", "length"),)
+
+    def __post_init__(self):
+        super().__post_init__()
+        if not (math.isfinite(self.width) and self.width >= 0):
+            raise InputError("adhesion.width", f"must be >= 0 m, got {self.width!r}")
+
+    @classmethod
+    def for_cell(cls, work_of_adhesion: float, z0: float, compliance: float,
+                 softening: float = SOFTENING) -> "SoftenedDugdale":
+        """The softened law of a grid whose cell has self-compliance ``compliance``.
+
+        Parameters
+        ----------
+        work_of_adhesion, z0 : float
+            Dugdale's dgamma (J/m^2) and z0 (m).
+        compliance : float
+            The cell's self-compliance C (m/Pa), e.g.
+            :func:`~tribobem.elasticity.bodies.halfspace.halfspace_self_compliance`; 0 for
+            rigid bodies (the step law: nothing deforms, the problem is single-valued).
+        softening : float
+            w / (sigma0 C); must exceed 1 for one equilibrium per node.
+
+        Returns
+        -------
+        SoftenedDugdale
+            ``width = softening x sigma0 x compliance``.
+        """
+        if not softening > 1.0:
+            raise InputError("softening", f"must be > 1 (w > sigma0 C), got {softening!r}")
+        law = DugdaleAdhesion(work_of_adhesion, z0)
+        return cls(work_of_adhesion, z0, softening * law.sigma0 * float(compliance))
+
+    @property
+    def _ramp(self) -> tuple[float, float, float]:
+        """(lo, hi, peak): the ramp runs from -peak at g = lo to 0 at g = hi (m, m, Pa)."""
+        s0, h0, w = self.sigma0, self.h0, self.width
+        if w <= 2.0 * h0:
+            return h0 - 0.5 * w, h0 + 0.5 * w, s0
+        hi = math.sqrt(2.0 * h0 * w)  # the triangle of the same slope sigma0 / w and work sigma0 h0
+        return 0.0, hi, 2.0 * s0 * h0 / hi
+
+    @property
+    def range(self) -> float:
+        """Range of the law (m): h0 + w/2, beyond which the stress is 0."""
+        return self._ramp[1]
+
+    @property
+    def floor(self) -> float:
+        """Lowest contact pressure (Pa): the law at zero gap, -sigma0 (or the triangle's peak)."""
+        return -self._ramp[2]
+
+    def outside_stress(self, gap, xp):
+        """-sigma0 below h0 - w/2, 0 above h0 + w/2, linear between (Pa).
+
+        Parameters
+        ----------
+        gap : ndarray
+            Gap of the non-contact nodes (m), any shape.
+        xp : module
+            Array namespace of ``gap`` (``numpy`` or ``cupy``).
+
+        Returns
+        -------
+        ndarray
+            Stress (Pa, negative = tensile), shape of ``gap``.
+        """
+        lo, hi, peak = self._ramp
+        if hi <= lo:
+            return xp.where(gap < self.h0, -self.sigma0, 0.0)
+        return -peak * xp.clip((hi - gap) / (hi - lo), 0.0, 1.0)
+
+    def outside_branch(self, gap, xp):
+        """The piece of the law a node is on: 0 the plateau, 1 the ramp, 2 beyond the range.
+
+        The law is continuous in the gap on each piece, so the normal solvers treat a change of
+        tension on the ramp as a fixed-point update of the load (:mod:`tribobem.interactions.base`).
+
+        Parameters
+        ----------
+        gap : ndarray
+            Gap (m), any shape.
+        xp : module
+            Array namespace of ``gap``.
+
+        Returns
+        -------
+        ndarray of int8
+        """
+        lo, hi, _ = self._ramp
+        return (gap > lo).astype(xp.int8) + (gap >= hi).astype(xp.int8)
+
+    def adhesive_mask(self, gap, xp):
+        """The cohesive zone's nodes among the non-contact ones: g < h0 (the ramp's centre, so
+        that the zone's area is the nearest-node estimate of the region inside Dugdale's range)."""
+        return gap < self.h0
+
+    def summary_info(self, radius: float | None = None, effective_modulus: float | None = None) -> dict:
+        """Dugdale's scalars (:meth:`DugdaleAdhesion.summary_info`) and the softening width (m)."""
+        info = super().summary_info(radius, effective_modulus)
+        info["softening_width"] = self.width
+        return info
+
+
+def build_dugdale(spec, context=None):
+    """The law of an ``[adhesion] model = "dugdale"`` table (its registry builder).
+
+    ``discretisation = "softened"`` (the default) gives :class:`SoftenedDugdale` with the
+    width of the problem grid's cell (w = 2 sigma0 C); ``"step"`` gives the thesis' step law,
+    :class:`DugdaleAdhesion`.  Rigid bodies (no E*) always get the step law.
+
+    Parameters
+    ----------
+    spec : DugdaleAdhesionSpec
+        The validated table.
+    context : LawContext, optional
+        The problem grid (m) and E* (Pa); without it the step law.
+
+    Returns
+    -------
+    DugdaleAdhesion or SoftenedDugdale
+    """
+    how = getattr(spec, "discretisation", "softened")
+    if how == "step" or context is None or context.effective_modulus is None:
+        return DugdaleAdhesion(spec.work_of_adhesion, spec.z0)
+    from ..elasticity.bodies.halfspace import halfspace_self_compliance
+
+    grid = context.grid
+    c = halfspace_self_compliance(grid.dx, grid.dy, context.effective_modulus)
+    return SoftenedDugdale.for_cell(spec.work_of_adhesion, spec.z0, c)

@@ -30,7 +30,8 @@ from ..runs import KINDS as RUN_KINDS
 from ..runs import RUNNERS
 from ..units import DIMENSIONS, UnitMismatch, convert
 from ..interactions.base import NoInteraction
-from ..interactions.dugdale import DugdaleAdhesion
+from ..interactions.dugdale import SoftenedDugdale, build_dugdale
+from ..interactions.exponential import ExponentialAdhesion
 from ..interactions.isotherms import isotherm_from_spec
 from ..interactions.registry import LAWS, one_of, register_law
 from ..units import registry
@@ -46,7 +47,7 @@ __all__ = [
     "LoadSpec",
     "AdhesionSpec",
     "NoAdhesionSpec",
-    "DugdaleAdhesionSpec",
+    "DugdaleAdhesionSpec", "ExponentialAdhesionSpec",
     "adhesion_model",
     "FrictionSpec",
     "HumiditySpec",
@@ -755,12 +756,17 @@ class DugdaleAdhesionSpec(AdhesionSpec):
     work_of_adhesion  J/m^2   required   work of adhesion dgamma, > 0
     z0                m       required   equilibrium separation of the Lennard-Jones
                                          potential, > 0 (typically 0.2-0.4 nm)
+    discretisation    -       "softened" ``"softened"``: the step at h0 softened to a ramp
+                                         of width 2 sigma0 C (C the cell's
+                                         self-compliance), one equilibrium whatever the
+                                         solver; ``"step"``: the thesis' step law
     ================  ======  =========  ================================================
     """
 
     model: Literal["dugdale"] = "dugdale"
     work_of_adhesion: Optional[Quantity("surface_energy", gt=0)] = None
     z0: Optional[Quantity("length", gt=0)] = None
+    discretisation: Literal["softened", "step"] = "softened"
 
     @model_validator(mode="after")
     def _complete(self):
@@ -771,9 +777,38 @@ class DugdaleAdhesionSpec(AdhesionSpec):
         return self
 
 
+class ExponentialAdhesionSpec(AdhesionSpec):
+    """``[adhesion] model = "exponential"``: exponential adhesion with a hard wall
+    (:class:`~tribobem.interactions.exponential.ExponentialAdhesion`), a tension
+    (w / rho) exp(-g / rho) outside the contact.
+
+    ================  ======  ==============  ===========================================
+    key               unit    default         meaning
+    ================  ======  ==============  ===========================================
+    model             -       "exponential"   the exponential law
+    work_of_adhesion  J/m^2   required        work of adhesion w, > 0
+    rho               m       required        decay length rho, > 0 (the Contact Mechanics
+                                              Challenge: 2.071 nm)
+    ================  ======  ==============  ===========================================
+    """
+
+    model: Literal["exponential"] = "exponential"
+    work_of_adhesion: Optional[Quantity("surface_energy", gt=0)] = None
+    rho: Optional[Quantity("length", gt=0)] = None
+
+    @model_validator(mode="after")
+    def _complete(self):
+        if self.work_of_adhesion is None:
+            _fail("work_of_adhesion", "required with model = 'exponential' (e.g. \"50 mJ/m^2\")")
+        if self.rho is None:
+            _fail("rho", "required with model = 'exponential' (e.g. \"2 nm\")")
+        return self
+
+
 # The built-in laws (a new law: its module in tribobem/interactions/, its spec above, one line here).
 register_law("none", NoAdhesionSpec, NoInteraction, build=lambda spec, context: None)  # None: no law
-register_law("dugdale", DugdaleAdhesionSpec, DugdaleAdhesion)
+register_law("dugdale", DugdaleAdhesionSpec, SoftenedDugdale, build=build_dugdale)
+register_law("exponential", ExponentialAdhesionSpec, ExponentialAdhesion)
 
 
 def adhesion_model(table: Any) -> Any:

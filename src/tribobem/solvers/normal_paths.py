@@ -287,6 +287,13 @@ def _solve_quiet(operator, gap, interaction, tol, max_iterations, initial, metho
                             max_iterations=max_iterations, initial_pressure=initial, method=method, **load)
 
 
+def _path_step(interaction, rng: float) -> float:
+    """The approach step near the law's range (m): the law's ``path_step`` (a smooth law whose
+    ``range`` is a far cut), else a quarter of the range."""
+    step = getattr(interaction, "path_step", None)
+    return float(step) if step else rng / 4.0
+
+
 def _separated(res: NormalResult) -> bool:
     return not np.any(res.contact) and not np.any(res.adhesive)
 
@@ -323,7 +330,7 @@ def _first_step(gap, interaction) -> tuple[np.ndarray, float, float]:
     rng = float(getattr(interaction, "range", 0.0) or 0.0)
     h = np.asarray(gap, dtype=float)
     # First step: a quarter of the interaction range, or a thousandth of the gap's relief.
-    first = rng / 4.0 if rng > 0 else 1e-3 * float(np.ptp(h))
+    first = _path_step(interaction, rng) if rng > 0 else 1e-3 * float(np.ptp(h))
     if not first > 0:
         first = 1e-12
     return h, rng, first
@@ -799,8 +806,8 @@ def _unload_by_approach(solve, interaction, state0, n_steps, max_steps, keep_fie
     """
     rng = float(getattr(interaction, "range", 0.0)) or 1e-3 * max(abs(state0.approach), 1e-12)
     d_hi = state0.approach
-    coarse = max((d_hi - 0.0) / max(n_steps // 2, 1), rng / 4.0)
-    fine = rng / 4.0
+    fine = _path_step(interaction, rng)
+    coarse = max((d_hi - 0.0) / max(n_steps // 2, 1), fine)
     rows, store = [], []
     prev, d = state0, d_hi
     best_state = None

@@ -200,7 +200,9 @@ def normal_result(op, h, p, contact, u, approach, interaction, outcome: Iteratio
     penetration = float(-xp.min(gap_field)) if n_c < g.size else 0.0
     del g
     xp.maximum(gap_field, 0.0, out=gap_field)
-    adhesive = (~contact) & (p < 0)
+    # the law's own adhesive area where it defines one (a smooth law pulls everywhere), else p < 0
+    mask_fn = getattr(interaction, "adhesive_mask", None)
+    adhesive = (~contact) & (p < 0) & (mask_fn(gap_field, xp) if mask_fn is not None else True)
     be = op.backend
     total = float(xp.sum(p)) * grid.cell_area
     if not outcome.converged:

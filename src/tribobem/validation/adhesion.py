@@ -66,7 +66,7 @@ from ..elasticity import free_boundary_operator
 from ..errors import ConvergenceWarning, InputError
 from ..geometry.shapes import sphere, wavy_sphere
 from ..grid import Grid
-from ..interactions.dugdale import DugdaleAdhesion
+from ..interactions.dugdale import DugdaleAdhesion, SoftenedDugdale
 from ..solvers.normal_paths import approach_curve, pull_off, solve_at_force
 from .common import PAIR, ValidationRow, _row, _solve
 
@@ -119,6 +119,19 @@ class MaugisDugdaleProblem:
     F_scale: float
     d_scale: float
     F_pull_off: float
+    discretisation: str = "softened"
+
+    @property
+    def law(self):
+        """The law the solves use: Dugdale softened at this grid's cell (``discretisation =
+        "softened"``, :class:`~tribobem.interactions.dugdale.SoftenedDugdale`) or the step
+        (``"step"``, :attr:`adhesion`)."""
+        if self.discretisation == "step":
+            return self.adhesion
+        from ..elasticity.bodies.halfspace import halfspace_self_compliance
+
+        c = halfspace_self_compliance(self.grid.dx, self.grid.dy, self.E_star)
+        return SoftenedDugdale.for_cell(self.adhesion.work_of_adhesion, self.z0, c)
 
     @property
     def operator(self):
@@ -161,6 +174,17 @@ class MaugisDugdaleProblem:
                 float(self.reference(force=0.75 * self.F_pull_off).approach)]
 
 
+def _discretisation(how: str) -> str:
+    if how not in ("softened", "step"):
+        raise InputError("discretisation", f"must be 'softened' or 'step', got {how!r}")
+    return how
+
+
+def _label(prob) -> str:
+    """The case name's suffix: none for the default (softened) law, " step" for the thesis' step."""
+    return " step" if prob.discretisation == "step" else ""
+
+
 def md_cells_cohesive(lam: float) -> float:
     """Cells across the cohesive zone c - a used for ``lam``: 12, but 8 for lambda >= 5.
 
@@ -184,7 +208,8 @@ def md_cells_cohesive(lam: float) -> float:
 
 def maugis_dugdale_problem(lam: float, *, radius: float = 2.5e-6, z0: float = 0.3e-9,
                            cells_cohesive: float | None = None, cells_contact: float = 20,
-                           domain: float = 2.2, n: int | None = None) -> MaugisDugdaleProblem:
+                           domain: float = 2.2, n: int | None = None,
+                           discretisation: str = "softened") -> MaugisDugdaleProblem:
     """Build the Maugis-Dugdale validation problem for one lambda.
 
     The grid is chosen from the analytic states at the check points (F_M = 1, 0, half the
@@ -210,6 +235,8 @@ def maugis_dugdale_problem(lam: float, *, radius: float = 2.5e-6, z0: float = 0.
         Side of the square domain in units of the largest cohesive radius c.
     n : int, optional
         Cells per side, instead of the rule above.
+    discretisation : {"softened", "step"}
+        The Dugdale law on the grid (:attr:`MaugisDugdaleProblem.law`).
 
     Returns
     -------
@@ -234,7 +261,8 @@ def maugis_dugdale_problem(lam: float, *, radius: float = 2.5e-6, z0: float = 0.
     grid = Grid.square(int(n), L)
     return MaugisDugdaleProblem(lam=float(lam), radius=radius, z0=z0, E_star=E, adhesion=ad, grid=grid,
                                 gap=sphere(grid, radius),
-                                a_scale=a_s, F_scale=F_s, d_scale=d_s, F_pull_off=F_po)
+                                a_scale=a_s, F_scale=F_s, d_scale=d_s, F_pull_off=F_po,
+                                discretisation=_discretisation(discretisation))
 
 
 def maugis_dugdale_rows(prob: MaugisDugdaleProblem, *, forces: Sequence[float] | None = None,
@@ -302,7 +330,7 @@ def maugis_dugdale_rows(prob: MaugisDugdaleProblem, *, forces: Sequence[float] |
         raise InputError("force_path", f"must be 'direct' or 'approach', got {force_path!r}")
     forces = prob.force_points() if forces is None else forces
     approaches = prob.approach_points() if approaches is None else approaches
-    case = f"maugis_dugdale lambda={prob.lam:g} {prob.grid.nx}^2"
+    case = f"maugis_dugdale lambda={prob.lam:g} {prob.grid.nx}^2{_label(prob)}"
     rows = []
     prev = None
     for F in forces:
@@ -310,10 +338,10 @@ def maugis_dugdale_rows(prob: MaugisDugdaleProblem, *, forces: Sequence[float] |
         if force_path == "approach":
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", ConvergenceWarning)
-                res = prev = solve_at_force(prob.operator, prob.gap, F, interaction=prob.adhesion, tol=solver_tol,
+                res = prev = solve_at_force(prob.operator, prob.gap, F, interaction=prob.law, tol=solver_tol,
                                             rtol=1e-3, start=prev)
         else:
-            res = _solve(prob.operator, prob.gap, force=F, interaction=prob.adhesion, tol=solver_tol)
+            res = _solve(prob.operator, prob.gap, force=F, interaction=prob.law, tol=solver_tol)
         at = f"F = {F / prob.F_scale:+.3g} pi R dgamma"
         rows += [
             _row(case, f"a at {at}", ref.contact_radius, res.contact_radius(), tol),
@@ -325,8 +353,8 @@ def maugis_dugdale_rows(prob: MaugisDugdaleProblem, *, forces: Sequence[float] |
         ref = prob.reference(approach=d)
         start = None
         if dc_start == "force":
-            start = _solve(prob.operator, prob.gap, force=float(ref.force), interaction=prob.adhesion, tol=solver_tol)
-        res = _solve(prob.operator, prob.gap, approach=d, interaction=prob.adhesion, tol=solver_tol,
+            start = _solve(prob.operator, prob.gap, force=float(ref.force), interaction=prob.law, tol=solver_tol)
+        res = _solve(prob.operator, prob.gap, approach=d, interaction=prob.law, tol=solver_tol,
                      initial_pressure=start)
         at = f"delta = {d / prob.d_scale:+.3g} d"
         rows += [
@@ -360,7 +388,7 @@ def md_pull_off(prob: MaugisDugdaleProblem, *, n_steps: int = 24, refine: int = 
     """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
-        return pull_off(prob.operator, prob.gap, prob.adhesion, preload=prob.F_scale, control="displacement",
+        return pull_off(prob.operator, prob.gap, prob.law, preload=prob.F_scale, control="displacement",
                         n_steps=n_steps, refine=refine, tol=solver_tol)
 
 
@@ -401,7 +429,7 @@ def md_pull_off_scan(prob: MaugisDugdaleProblem, *, D_start: float = 0.3, half_w
     Ds = np.arange(max(D_start, D_po + half_width), D_po - half_width - 1e-12, -step)
     F, d, prev = [], [], None
     for D in Ds:
-        res = _solve(prob.operator, prob.gap, approach=float(D * prob.d_scale), interaction=prob.adhesion,
+        res = _solve(prob.operator, prob.gap, approach=float(D * prob.d_scale), interaction=prob.law,
                      tol=solver_tol, initial_pressure=prev)
         F.append(res.force if res.converged else np.inf)
         d.append(res.approach)
@@ -433,7 +461,7 @@ def md_pull_off_rows(prob: MaugisDugdaleProblem, tol: float = 0.03, **kw) -> lis
     list of ValidationRow
         One row: the pull-off force against the analytic one.
     """
-    case = f"md_pull_off lambda={prob.lam:g} {prob.grid.nx}^2"
+    case = f"md_pull_off lambda={prob.lam:g} {prob.grid.nx}^2{_label(prob)}"
     if prob.lam >= 5:
         force, _ = md_pull_off_scan(prob)
         return [_row(case, "pull-off force (scan about the analytic pull-off approach)", prob.F_pull_off, force, tol)]
