@@ -7,7 +7,6 @@ sigma0 C of h0.  The solver-agreement tests are those that failed with the step 
 Maugis-Dugdale sphere at lambda = 1 Polonsky-Keer and NormCG stopped 1-4 % apart in force.
 """
 
-import math
 import warnings
 
 import numpy as np

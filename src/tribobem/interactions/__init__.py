@@ -17,6 +17,7 @@ registered in :mod:`~tribobem.interactions.registry` with the spec of its table.
 from .base import Interaction, NoInteraction
 from .capillary import CapillaryInteraction, ForceSplit
 from .dugdale import DugdaleAdhesion, SoftenedDugdale
+from .exponential import ExponentialAdhesion
 from .registry import LAWS, LawContext, StressLaw, register_law
 from .menisci import Islands, contribution_coefficient, meniscus_islands
 from .van_der_waals import VanDerWaals, combine_hamaker
@@ -24,7 +25,8 @@ from .films import FilmResult, film_thickness, levelling_time
 from .isotherms import SI, SIO2, DryIsotherm, FHHIsotherm, Isotherm, TableIsotherm, isotherm_from_spec
 from .water import Water, check_rh
 
-__all__ = ["Interaction", "NoInteraction", "DugdaleAdhesion", "SoftenedDugdale", "LAWS", "LawContext", "StressLaw", "register_law",
+__all__ = ["Interaction", "NoInteraction", "DugdaleAdhesion", "SoftenedDugdale", "ExponentialAdhesion",
+           "LAWS", "LawContext", "StressLaw", "register_law",
            "Water", "check_rh", "Isotherm", "TableIsotherm", "FHHIsotherm", "DryIsotherm", "SIO2", "SI",
            "isotherm_from_spec", "FilmResult", "film_thickness", "levelling_time",
            "CapillaryInteraction", "ForceSplit", "Islands", "meniscus_islands", "contribution_coefficient",
