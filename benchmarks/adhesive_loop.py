@@ -30,7 +30,7 @@ import tempfile
 import time
 
 
-def scenario(n: int, cycles: int, steps: int, amplitude: float, method: str) -> dict:
+def scenario(n: int, cycles: int, steps: int, amplitude: float, method: str, discretisation: str = "softened") -> dict:
     """The benchmark's hysteresis scenario (module docstring)."""
     return {
         "kind": "hysteresis",
@@ -38,7 +38,8 @@ def scenario(n: int, cycles: int, steps: int, amplitude: float, method: str) -> 
         "grid": {"n": n, "size": "0.6 um", "periodic": False},
         "body1": {"E": "100 GPa", "nu": 0.25},
         "body2": {"rigid": True, "shape": {"kind": "sphere", "radius": "40 um"}},
-        "adhesion": {"model": "dugdale", "work_of_adhesion": "40 mJ/m^2", "z0": "0.2 nm"},
+        "adhesion": {"model": "dugdale", "work_of_adhesion": "40 mJ/m^2", "z0": "0.2 nm",
+                     "discretisation": discretisation},
         "load": {"force": "8 uN"},
         "friction": {"coefficient": 0.25,
                      "path": {"control": "force", "cycles": cycles, "steps": steps, "amplitude": amplitude}},
@@ -54,6 +55,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--steps", type=int, default=40)
     ap.add_argument("--amplitude", type=float, default=0.95)
     ap.add_argument("--method", default="auto", choices=["auto", "polonsky_keer", "normcg"])
+    ap.add_argument("--discretisation", default="softened", choices=["softened", "step"])
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
 
@@ -91,7 +93,7 @@ def main(argv=None) -> dict:
 
     from tribobem.runs.settings import TANGENTIAL_TOLERANCE
 
-    sc = scenario(args.n, args.cycles, args.steps, args.amplitude, args.method)
+    sc = scenario(args.n, args.cycles, args.steps, args.amplitude, args.method, args.discretisation)
     tol_run = 1e-10  # the scenario default [solver] tolerance
     tang_run = max(tol_run, TANGENTIAL_TOLERANCE)
     originals = (wrap("solve_normal", normal_kind), wrap("solve_tangential", tangential_kind))

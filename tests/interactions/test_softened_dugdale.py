@@ -1,8 +1,8 @@
 """The softened Dugdale law: one equilibrium per node, the same state from either solver.
 
 The criterion (tribobem.interactions.dugdale): a node under a fixed load from the others
-solves g = g_ext + C s(g); with a ramp of width w = 2 sigma0 C the left side minus the right
-increases with slope >= 1/2, so each g_ext has one g.  The step law has two for g_ext within
+solves g = g_ext + C s(g); with a ramp of width w = 3 sigma0 C the left side minus the right
+increases with slope >= 2/3, so each g_ext has one g.  The step law has two for g_ext within
 sigma0 C of h0.  The solver-agreement tests are those that failed with the step law: on the
 Maugis-Dugdale sphere at lambda = 1 Polonsky-Keer and NormCG stopped 1-4 % apart in force.
 """
@@ -73,7 +73,7 @@ def test_the_scenario_builds_the_softened_law_by_default():
     spec = DugdaleAdhesionSpec(work_of_adhesion=0.088, z0=0.3e-9)
     law = build_dugdale(spec, ctx)
     assert isinstance(law, SoftenedDugdale)
-    assert law.width == pytest.approx(2 * LAW.sigma0 * C, rel=1e-12)
+    assert law.width == pytest.approx(3 * LAW.sigma0 * C, rel=1e-12)
     step = build_dugdale(DugdaleAdhesionSpec(work_of_adhesion=0.088, z0=0.3e-9, discretisation="step"), ctx)
     assert type(step) is DugdaleAdhesion
     # rigid bodies: nothing deforms, the step law is single-valued

@@ -121,6 +121,10 @@ class ExponentialAdhesion:
         # an overlapping node (g < 0, about to enter the contact) takes the law's value at the wall
         return -self.peak_stress * xp.exp(-xp.maximum(gap, 0.0) / self.rho)
 
+    def outside_slope(self, gap, xp):
+        """ds/dg = (w / rho^2) exp(-g / rho) (Pa/m) for g > 0 (the solvers' relaxed update)."""
+        return (self.peak_stress / self.rho) * xp.exp(-xp.maximum(gap, 0.0) / self.rho)
+
     def outside_branch(self, gap, xp):
         """One smooth piece: zeros (int8) of the shape of ``gap``."""
         return xp.zeros(gap.shape, dtype=xp.int8)

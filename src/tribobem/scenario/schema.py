@@ -757,7 +757,7 @@ class DugdaleAdhesionSpec(AdhesionSpec):
     z0                m       required   equilibrium separation of the Lennard-Jones
                                          potential, > 0 (typically 0.2-0.4 nm)
     discretisation    -       "softened" ``"softened"``: the step at h0 softened to a ramp
-                                         of width 2 sigma0 C (C the cell's
+                                         of width 3 sigma0 C (C the cell's
                                          self-compliance), one equilibrium whatever the
                                          solver; ``"step"``: the thesis' step law
     ================  ======  =========  ================================================

@@ -28,6 +28,10 @@ from ..errors import ConvergenceError, ConvergenceWarning
 #: mismatch (benchmarks/README.md): applied at every iteration, it restarts Polonsky-Keer's CG
 #: and keeps NormCG's from settling.
 DEFER_RATIO = 10.0
+#: Largest gain C s' (the cell's self-compliance times the law's slope) of a node's relaxed
+#: outside update p + (s - p) / (1 - C s') (a law with ``outside_slope``): beyond it a node would
+#: be two-valued, and the update is capped rather than amplified without bound.
+RELAX_GAIN = 0.8
 
 __all__ = ["IterationOutcome", "IterativeSolver", "dot", "report_failure", "run_iterations"]
 

@@ -77,7 +77,7 @@ from ..elasticity.operators import ConvolutionOperator
 from ..errors import InputError
 from ..interactions.base import NoInteraction
 from ..results import NormalResult
-from .iteration import DEFER_RATIO, IterativeSolver, dot, run_iterations
+from .iteration import DEFER_RATIO, RELAX_GAIN, IterativeSolver, dot, run_iterations
 from .normal_problem import normal_problem, normal_result
 
 #: Largest number of nodes whose pressure may change outside the CG step (leavers, entering
@@ -431,6 +431,7 @@ class _CGState(IterativeSolver):
         # Optional: which piece of a piecewise-smooth law each node is on (see
         # interactions.base).  Without it every change of an outside stress is a status change.
         self.branch_fn = getattr(inter, "outside_branch", None) if self.has_outside else None
+        self.slope_fn = getattr(inter, "outside_slope", None) if self.has_outside else None
         self.branch = None
         self.out_error = 0.0  # relative mismatch of deferred smooth outside stresses
         # W = 0: no outside stress, floor 0 and no pressure outside the contact (a warm start
@@ -751,6 +752,13 @@ class _CGState(IterativeSolver):
             step.out_new = None
             return False
         out_new = self.inter.outside_stress(self.g, self.xp)
+        if self.slope_fn is not None:
+            # the node's own response (normal_cg._NormCG._relaxed): p + (s - p) / (1 - C s')
+            gain = self.xp.clip(_self_compliance(self.op) * self.slope_fn(self.g, self.xp), 0.0, RELAX_GAIN)
+            out_new -= self.p
+            out_new /= 1.0 - gain
+            out_new += self.p
+            self.xp.clip(out_new, self.floor, 0.0, out=out_new)
         out_new[self.idx] = step.p_c_old  # compare only the non-contact nodes below
         step.out_new = out_new
         return not bool(self.xp.array_equal(out_new, self.p))
