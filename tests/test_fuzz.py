@@ -947,10 +947,11 @@ def test_regression_hysteresis_loop_values_do_not_depend_on_the_direction():
 def test_regression_force_controlled_pull_off_is_tensile():
     fuzz_one(PULLOFF_FORCE_COARSE, "regression", "pulloff")
     r = run_scenario(PULLOFF_FORCE_COARSE, progress=False)
-    # resolved: the sign below is not a grid effect (the softened law has one equilibrium per
-    # state: no band of edge equilibria, so none is reported)
-    assert warning_names(r.summary["warnings"]) == [], r.summary["warnings"]
-    assert "cohesive_edge" not in r.summary
+    # resolved: the sign below is not a grid effect.  On this coarse grid the ramp of the softened
+    # law would be wider than h0 / 5, so the step law is kept ("auto"); the grid's band of its
+    # equilibria, 6.4 % of the adhesive force, moves the force by far less than its size
+    assert warning_names(r.summary["warnings"]) in ([], ["cohesive_edge"]), r.summary["warnings"]
+    assert r.summary["cohesive_edge"]["fraction"] < 0.1
     # <= 0 to rounding (1e-12 of the preload): with steps this coarse and no bisection the F = 0
     # state is the last one with an equilibrium (the Maugis-Dugdale -0.25 uN needs refine > 0)
     assert r.summary["pull_off_force"] <= 1e-12 * 0.3e-6

@@ -261,7 +261,9 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
                       f"at approach {format_quantity(summary.get('pull_off_approach'), 'length', 4)}")
     prob = summary.get("problem", {})
     if prob.get("tabor_parameter") is not None:
-        console.print(f"Tabor parameter {prob['tabor_parameter']:.3g}, Maugis parameter {prob['maugis_parameter']:.3g}")
+        maugis = prob.get("maugis_parameter")
+        console.print(f"Tabor parameter {prob['tabor_parameter']:.3g}"
+                      + (f", Maugis parameter {maugis:.3g}" if maugis is not None else ""))
     for w in summary.get("warnings") or []:
         console.print(f"[bold yellow]warning:[/bold yellow] {escape(str(w))}")
     _print_expected(summary.get("expected"), console)

@@ -128,8 +128,8 @@ def test_an_unknown_model_names_the_registered_laws(tension_law):
     with pytest.raises(ScenarioError) as err:
         parse_scenario(data)
     assert err.value.errors == [("adhesion.model",
-                                 "must be one of 'none', 'dugdale' or 'test_tension', got 'lennard_jones'")]
-    with pytest.raises(KeyError, match="'none', 'dugdale' or 'test_tension'"):
+                                 "must be one of 'none', 'dugdale', 'exponential' or 'test_tension', got 'lennard_jones'")]
+    with pytest.raises(KeyError, match="'none', 'dugdale', 'exponential' or 'test_tension'"):
         get_law("lennard_jones")
 
 

@@ -16,7 +16,7 @@ from tribobem.elasticity import free_boundary_operator
 from tribobem.elasticity.bodies.halfspace import halfspace_self_compliance
 from tribobem.geometry import self_affine_surface
 from tribobem.grid import Grid
-from tribobem.interactions.dugdale import SOFTENING, DugdaleAdhesion, SoftenedDugdale, build_dugdale
+from tribobem.interactions.dugdale import AUTO_MAX_WIDTH, SOFTENING, DugdaleAdhesion, SoftenedDugdale, build_dugdale
 from tribobem.interactions.registry import LawContext
 from tribobem.scenario.schema import DugdaleAdhesionSpec
 from tribobem.solvers.normal import solve_normal
@@ -67,13 +67,20 @@ def test_one_root_per_node_where_the_step_has_two():
     assert two >= 8
 
 
-def test_the_scenario_builds_the_softened_law_by_default():
+def test_the_scenario_builds_the_softened_law_by_default_where_its_ramp_is_narrow():
     grid = Grid.square(64, 128e-9)
     ctx = LawContext(grid, PAIR.effective_modulus)
     spec = DugdaleAdhesionSpec(work_of_adhesion=0.088, z0=0.3e-9)
+    assert spec.discretisation == "auto"
     law = build_dugdale(spec, ctx)
     assert isinstance(law, SoftenedDugdale)
     assert law.width == pytest.approx(3 * LAW.sigma0 * C, rel=1e-12)
+    assert law.width <= AUTO_MAX_WIDTH * LAW.h0
+    # a cell so coarse that the ramp would be wider than h0 / 5: auto keeps the step, softened does not
+    coarse = LawContext(Grid.square(64, 64 * 12e-9), PAIR.effective_modulus)
+    assert type(build_dugdale(spec, coarse)) is DugdaleAdhesion
+    forced = build_dugdale(DugdaleAdhesionSpec(work_of_adhesion=0.088, z0=0.3e-9, discretisation="softened"), coarse)
+    assert isinstance(forced, SoftenedDugdale) and forced.width > AUTO_MAX_WIDTH * LAW.h0
     step = build_dugdale(DugdaleAdhesionSpec(work_of_adhesion=0.088, z0=0.3e-9, discretisation="step"), ctx)
     assert type(step) is DugdaleAdhesion
     # rigid bodies: nothing deforms, the step law is single-valued
@@ -104,7 +111,7 @@ def _same_state(a, b, rtol=1e-7):
 
 @pytest.mark.parametrize("n", [80, 160])
 def test_polonsky_keer_and_normcg_agree_on_the_maugis_dugdale_sphere(n):
-    prob = maugis_dugdale_problem(1.0, n=n)
+    prob = maugis_dugdale_problem(1.0, n=n, discretisation="softened")
     d = float(prob.reference(force=prob.F_scale).approach)
     pk, cg = _both(prob.operator, prob.gap, prob.law, approach=d)
     _same_state(pk, cg)
@@ -124,7 +131,7 @@ def test_polonsky_keer_and_normcg_agree_on_the_maugis_dugdale_sphere(n):
 
 
 def test_polonsky_keer_and_normcg_agree_under_force_control():
-    prob = maugis_dugdale_problem(2.0, n=160)
+    prob = maugis_dugdale_problem(2.0, n=160, discretisation="softened")
     pk, cg = _both(prob.operator, prob.gap, prob.law, force=0.0)
     _same_state(pk, cg, rtol=1e-6)
     assert pk.approach == pytest.approx(cg.approach, rel=1e-7, abs=1e-9 * prob.d_scale)

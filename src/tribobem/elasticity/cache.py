@@ -36,7 +36,7 @@ class OperatorCache:
         (:meth:`KernelColumns.of <tribobem.elasticity.columns.KernelColumns.of>`).
     self_compliance : float or None
         Displacement of a cell under its own unit pressure (m/Pa), the diagonal of K
-        (``tribobem.solvers.normal._self_compliance``).
+        (``tribobem.solvers.normal_problem._self_compliance``).
     stiffness_box_spectra : dict
         Box shape (n1, n2) -> the body model's stiffness shape on it (|q| in rad/m for the
         half-space, :meth:`~tribobem.elasticity.bodies.BodyModel.preconditioner_stiffness`), the

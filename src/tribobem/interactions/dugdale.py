@@ -11,7 +11,8 @@ Two discretisations of the law on the grid:
   self-compliance, 1.12 dx / E* for a square cell) is consistent both in and out of the zone:
   its own tension closes its gap by sigma0 C.  The discrete problem then has many equilibria,
   which differ by such edge nodes, and each solver (and each start) stops on one of them.
-* :class:`SoftenedDugdale` (the default of ``[adhesion] model = "dugdale"``): the step is
+* :class:`SoftenedDugdale` (the default of ``[adhesion] model = "dugdale"`` where its ramp is
+  at most h0 / 5 wide, :data:`AUTO_MAX_WIDTH`): the step is
   replaced by a linear ramp of width w centred on h0, -sigma0 below h0 - w/2, 0 above h0 + w/2.
   It keeps the work of adhesion (the area under the law, sigma0 h0) and, read as a sub-cell
   model, gives each cell the tension sigma0 times the part of the cell inside the zone, for a
@@ -21,11 +22,18 @@ Two discretisations of the law on the grid:
   1 / C, i.e. w > sigma0 C.  The ramp's nodes form a ring around the zone, one or two cells
   wide, whose collective modes are more compliant than one cell: measured on a sphere, the
   solvers' fixed point over the ring contracts as it would for a compliance of 1.9 C.  tribobem
-  takes w = 3 sigma0 C (:data:`SOFTENING`), so that the ring too is single-valued with a margin
-  (its fixed point contracts by about 0.45 per update with the relaxed update of the solvers),
-  and Polonsky-Keer and NormCG stop on the same state.  As the cell shrinks w -> 0 and the law becomes Dugdale's.  Where w would exceed 2 h0
-  (a cell so coarse that sigma0 C > h0) the law becomes a triangle from g = 0 with the same
-  slope and work, sigma0' = 2 dgamma / w' below sigma0, w' = sqrt(2 h0 w).
+  takes w = 3 sigma0 C (:data:`SOFTENING`), so that the ring too is single-valued with a margin,
+  and Polonsky-Keer and NormCG stop on the same state.  As the cell shrinks w -> 0 and the law
+  becomes Dugdale's.  Where w would exceed 2 h0 (a cell so coarse that sigma0 C > 2 h0 / 3) the
+  law becomes a triangle from g = 0 with the same slope and work, sigma0' = 2 dgamma / w' below
+  sigma0, w' = sqrt(2 h0 w).
+
+Where the ramp is wide against h0 (a cell coarse against the cohesive length E* h0 / sigma0:
+the Maugis-Dugdale sphere at lambda = 5 with 4 cells across its zone has w = 0.62 h0, a flat
+punch's edge 0.88 h0) the ramp spans several cells, its ring softens faster than the ring's own
+elastic response, and the softened solves did not converge or lost accuracy.  The default
+``discretisation = "auto"`` (:func:`build_dugdale`) therefore softens only where w <= h0 / 5
+(:data:`AUTO_MAX_WIDTH`) and keeps the step elsewhere.
 
 What the softening cannot remove is a physical instability: a flat top under displacement
 control at a separation near h0, or the jump-in and jump-off of a sphere under force control,
@@ -38,6 +46,12 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InputError
+
+#: Widest ramp (in units of h0) that ``discretisation = "auto"`` (the default) softens: beyond it the
+#: ramp is no longer a small change of Dugdale's law (a cell coarse against the cohesive length
+#: E* h0 / sigma0, as at lambda = 5 on 624^2 or a flat punch's edge), the softened solves failed to
+#: converge or lost accuracy there (docs: theory, adhesion), and the step law is kept.
+AUTO_MAX_WIDTH = 0.2
 
 #: Width of the softened law's ramp in units of sigma0 x the cell's self-compliance: three times
 #: the least width (sigma0 C) at which a lone node's equilibrium is single-valued (module docstring).
@@ -118,6 +132,29 @@ class DugdaleAdhesion:
             info["tabor_parameter"] = self.tabor_parameter(radius, effective_modulus)
             info["maugis_parameter"] = self.maugis_parameter(radius, effective_modulus)
         return info
+
+    def softened(self, grid, effective_modulus: float | None, softening: float = SOFTENING) -> "DugdaleAdhesion":
+        """This law softened for a grid (:class:`SoftenedDugdale`, the default of scenarios).
+
+        Parameters
+        ----------
+        grid : Grid
+            The solver grid (its cell dx x dy, m).
+        effective_modulus : float or None
+            Composite modulus E* (Pa); None (rigid bodies): the step law itself.
+        softening : float
+            w / (sigma0 C), > 1.
+
+        Returns
+        -------
+        SoftenedDugdale or DugdaleAdhesion
+        """
+        if effective_modulus is None:
+            return DugdaleAdhesion(self.work_of_adhesion, self.z0)
+        from ..elasticity.bodies.halfspace import halfspace_self_compliance
+
+        c = halfspace_self_compliance(grid.dx, grid.dy, effective_modulus)
+        return SoftenedDugdale.for_cell(self.work_of_adhesion, self.z0, c, softening)
 
     @classmethod
     def from_stress(cls, sigma0: float, h0: float) -> "DugdaleAdhesion":
@@ -408,9 +445,10 @@ class SoftenedDugdale(DugdaleAdhesion):
 def build_dugdale(spec, context=None):
     """The law of an ``[adhesion] model = "dugdale"`` table (its registry builder).
 
-    ``discretisation = "softened"`` (the default) gives :class:`SoftenedDugdale` with the
-    width of the problem grid's cell (w = 3 sigma0 C); ``"step"`` gives the thesis' step law,
-    :class:`DugdaleAdhesion`.  Rigid bodies (no E*) always get the step law.
+    ``discretisation = "softened"`` gives :class:`SoftenedDugdale` with the width of the problem
+    grid's cell (w = 3 sigma0 C); ``"step"`` gives the thesis' step law, :class:`DugdaleAdhesion`;
+    ``"auto"`` (the default) the softened law where its ramp is at most :data:`AUTO_MAX_WIDTH` h0
+    wide, else the step.  Rigid bodies (no E*) always get the step law.
 
     Parameters
     ----------
@@ -423,11 +461,11 @@ def build_dugdale(spec, context=None):
     -------
     DugdaleAdhesion or SoftenedDugdale
     """
-    how = getattr(spec, "discretisation", "softened")
-    if how == "step" or context is None or context.effective_modulus is None:
-        return DugdaleAdhesion(spec.work_of_adhesion, spec.z0)
-    from ..elasticity.bodies.halfspace import halfspace_self_compliance
-
-    grid = context.grid
-    c = halfspace_self_compliance(grid.dx, grid.dy, context.effective_modulus)
-    return SoftenedDugdale.for_cell(spec.work_of_adhesion, spec.z0, c)
+    step = DugdaleAdhesion(spec.work_of_adhesion, spec.z0)
+    how = getattr(spec, "discretisation", "auto")
+    if how == "step" or context is None:
+        return step
+    soft = step.softened(context.grid, context.effective_modulus)
+    if how == "auto" and getattr(soft, "width", 0.0) > AUTO_MAX_WIDTH * step.h0:
+        return step
+    return soft

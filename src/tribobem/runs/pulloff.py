@@ -76,7 +76,7 @@ def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
         start = po.preload_state
         rows: list = []
         if load.loading and math.isfinite(start.approach):
-            d0 = -2.0 * inter.h0
+            d0 = -2.0 * inter.range  # separated by twice the law's range
             approaches = np.linspace(d0, start.approach, n_load)
             loading = approach_curve(pb.operator, pb.gap, approaches, interaction=inter, unload=False,
                                      progress=offset_progress(bar, total - n_load, total), **kw)

@@ -687,15 +687,16 @@ class LoadSpec(Section):
 # ----------------------------------------------------------------------------- adhesion: the stress laws
 class AdhesionSpec(Section):
     """``[adhesion]``: the stress law that acts outside the contact, chosen by ``model``; the
-    other keys are the law's (:class:`NoAdhesionSpec`, :class:`DugdaleAdhesionSpec`).
+    other keys are the law's (:class:`NoAdhesionSpec`, :class:`DugdaleAdhesionSpec`,
+    :class:`ExponentialAdhesionSpec`).
 
     ======  ====  ========  ==========================================================
     key     unit  default   meaning
     ======  ====  ========  ==========================================================
     model   -     see text  the law, a name of the stress-law registry
-                            (:data:`tribobem.interactions.registry.LAWS`): ``"none"``
-                            or ``"dugdale"``; left out: ``"dugdale"`` when
-                            ``work_of_adhesion`` is given, else ``"none"``
+                            (:data:`tribobem.interactions.registry.LAWS`): ``"none"``,
+                            ``"dugdale"`` or ``"exponential"``; left out: ``"dugdale"``
+                            when ``work_of_adhesion`` is given, else ``"none"``
     ======  ====  ========  ==========================================================
 
     An unknown ``model`` is an error that lists the registered ones.  Each law's table is a
@@ -756,17 +757,19 @@ class DugdaleAdhesionSpec(AdhesionSpec):
     work_of_adhesion  J/m^2   required   work of adhesion dgamma, > 0
     z0                m       required   equilibrium separation of the Lennard-Jones
                                          potential, > 0 (typically 0.2-0.4 nm)
-    discretisation    -       "softened" ``"softened"``: the step at h0 softened to a ramp
+    discretisation    -       "auto"     ``"softened"``: the step at h0 softened to a ramp
                                          of width 3 sigma0 C (C the cell's
                                          self-compliance), one equilibrium whatever the
-                                         solver; ``"step"``: the thesis' step law
+                                         solver; ``"step"``: the thesis' step law;
+                                         ``"auto"``: softened where the ramp is at most
+                                         h0 / 5 wide, else the step
     ================  ======  =========  ================================================
     """
 
     model: Literal["dugdale"] = "dugdale"
     work_of_adhesion: Optional[Quantity("surface_energy", gt=0)] = None
     z0: Optional[Quantity("length", gt=0)] = None
-    discretisation: Literal["softened", "step"] = "softened"
+    discretisation: Literal["auto", "softened", "step"] = "auto"
 
     @model_validator(mode="after")
     def _complete(self):

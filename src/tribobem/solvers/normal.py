@@ -78,7 +78,7 @@ from ..errors import InputError
 from ..interactions.base import NoInteraction
 from ..results import NormalResult
 from .iteration import DEFER_RATIO, RELAX_GAIN, IterativeSolver, dot, run_iterations
-from .normal_problem import normal_problem, normal_result
+from .normal_problem import _self_compliance, normal_problem, normal_result
 
 #: Largest number of nodes whose pressure may change outside the CG step (leavers, entering
 #: overlaps, changed outside stresses) for the displacement to be corrected with columns of
@@ -91,17 +91,6 @@ PRECONDITION_AFTER = 2
 #: ... and only where the preconditioner's box transform is at most this fraction of the
 #: operator's transform (see ``_stiffness_box``).
 BOX_FRACTION = 0.5
-
-
-def _self_compliance(op: ConvolutionOperator) -> float:
-    """Displacement (m/Pa) of a cell under its own unit pressure (diagonal of K)."""
-    c = op.cache.self_compliance
-    if c is None:
-        xp = op.xp
-        e = xp.zeros(op.grid.shape)
-        e[0, 0] = 1.0
-        c = op.cache.self_compliance = float(op.backend.to_numpy(op.apply(e))[0, 0])
-    return c
 
 
 def _stiffness_box(op: ConvolutionOperator, idx):

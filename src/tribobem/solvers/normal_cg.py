@@ -76,7 +76,7 @@ from ..errors import InputError
 from ..interactions.base import NoInteraction
 from ..results import NormalResult
 from .iteration import DEFER_RATIO, RELAX_GAIN, IterativeSolver, dot, run_iterations
-from .normal_problem import normal_problem, normal_result
+from .normal_problem import _self_compliance, normal_problem, normal_result
 
 __all__ = ["solve_normal_cg", "fft_preconditioner"]
 
@@ -539,8 +539,6 @@ class _NormCG(IterativeSolver):
             return out
         xp = self.xp
         if self.self_c is None:
-            from .normal import _self_compliance
-
             self.self_c = _self_compliance(self.op)
         gain = xp.clip(self.self_c * slope_fn(g, xp), 0.0, RELAX_GAIN)
         return xp.clip(self.p + (out - self.p) / (1.0 - gain), self.floor, 0.0)

@@ -226,3 +226,14 @@ def normal_result(op, h, p, contact, u, approach, interaction, outcome: Iteratio
         info={"max_penetration": max(penetration, 0.0), "interaction": repr(interaction), "operator": op.kind,
               **info},
     )
+
+
+def _self_compliance(op) -> float:
+    """Displacement (m/Pa) of a cell under its own unit pressure (diagonal of K)."""
+    c = op.cache.self_compliance
+    if c is None:
+        xp = op.xp
+        e = xp.zeros(op.grid.shape)
+        e[0, 0] = 1.0
+        c = op.cache.self_compliance = float(op.backend.to_numpy(op.apply(e))[0, 0])
+    return c

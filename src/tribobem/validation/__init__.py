@@ -12,7 +12,8 @@ in the order they run):
     ``hertz``, ``westergaard``, ``bisinusoidal_small_load``, ``bisinusoidal_near_full``,
     ``force_balance``, ``periodic_vs_free``.
 :mod:`~tribobem.validation.adhesion`
-    ``maugis_dugdale``, ``md_pull_off``, ``guduru``.
+    ``maugis_dugdale``, ``md_pull_off``, ``md_grid_band``, ``md_step``, ``md_solver_agreement``,
+    ``exponential``, ``guduru``.
 :mod:`~tribobem.validation.studies`
     ``bisinusoidal_resolution`` (the published 625-case table of Paper A section 6).
 :mod:`~tribobem.validation.burl`
@@ -61,7 +62,7 @@ __all__ = [
 #: The physics modules, in the order their cases run: one line per physics.
 PHYSICS = (
     "normal",      # hertz, westergaard, bisinusoidal_small_load, bisinusoidal_near_full, force_balance, periodic_vs_free
-    "adhesion",    # maugis_dugdale, md_pull_off, guduru
+    "adhesion",    # maugis_dugdale, md_pull_off, md_grid_band, md_step, md_solver_agreement, exponential, guduru
     "tangential",  # cattaneo_mindlin, cattaneo_periodic, mindlin_stiffness, coupling_sign, spence
     "hysteresis",  # mindlin_deresiewicz
     "paper_e",     # paper_e (dissimilar adhesive hysteresis, Paper E 3.2)

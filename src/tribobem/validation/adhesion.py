@@ -119,19 +119,21 @@ class MaugisDugdaleProblem:
     F_scale: float
     d_scale: float
     F_pull_off: float
-    discretisation: str = "softened"
+    discretisation: str = "auto"
 
     @property
     def law(self):
-        """The law the solves use: Dugdale softened at this grid's cell (``discretisation =
-        "softened"``, :class:`~tribobem.interactions.dugdale.SoftenedDugdale`) or the step
-        (``"step"``, :attr:`adhesion`)."""
-        if self.discretisation == "step":
-            return self.adhesion
-        from ..elasticity.bodies.halfspace import halfspace_self_compliance
+        """The law the solves use, as a scenario builds it (:func:`~tribobem.interactions.dugdale.build_dugdale`):
+        Dugdale softened at this grid's cell (``"softened"``), the step (``"step"``,
+        :attr:`adhesion`), or softened where its ramp is at most h0 / 5 wide (``"auto"``)."""
+        from types import SimpleNamespace
 
-        c = halfspace_self_compliance(self.grid.dx, self.grid.dy, self.E_star)
-        return SoftenedDugdale.for_cell(self.adhesion.work_of_adhesion, self.z0, c)
+        from ..interactions.dugdale import build_dugdale
+        from ..interactions.registry import LawContext
+
+        spec = SimpleNamespace(work_of_adhesion=self.adhesion.work_of_adhesion, z0=self.z0,
+                               discretisation=self.discretisation)
+        return build_dugdale(spec, LawContext(self.grid, self.E_star))
 
     @property
     def operator(self):
@@ -175,14 +177,14 @@ class MaugisDugdaleProblem:
 
 
 def _discretisation(how: str) -> str:
-    if how not in ("softened", "step"):
-        raise InputError("discretisation", f"must be 'softened' or 'step', got {how!r}")
+    if how not in ("auto", "softened", "step"):
+        raise InputError("discretisation", f"must be 'auto', 'softened' or 'step', got {how!r}")
     return how
 
 
 def _label(prob) -> str:
-    """The case name's suffix: none for the default (softened) law, " step" for the thesis' step."""
-    return " step" if prob.discretisation == "step" else ""
+    """The case name's suffix: " step" where the solves use the thesis' step law, else none."""
+    return "" if isinstance(prob.law, SoftenedDugdale) else " step"
 
 
 def md_cells_cohesive(lam: float) -> float:
@@ -209,7 +211,7 @@ def md_cells_cohesive(lam: float) -> float:
 def maugis_dugdale_problem(lam: float, *, radius: float = 2.5e-6, z0: float = 0.3e-9,
                            cells_cohesive: float | None = None, cells_contact: float = 20,
                            domain: float = 2.2, n: int | None = None,
-                           discretisation: str = "softened") -> MaugisDugdaleProblem:
+                           discretisation: str = "auto") -> MaugisDugdaleProblem:
     """Build the Maugis-Dugdale validation problem for one lambda.
 
     The grid is chosen from the analytic states at the check points (F_M = 1, 0, half the
@@ -235,7 +237,7 @@ def maugis_dugdale_problem(lam: float, *, radius: float = 2.5e-6, z0: float = 0.
         Side of the square domain in units of the largest cohesive radius c.
     n : int, optional
         Cells per side, instead of the rule above.
-    discretisation : {"softened", "step"}
+    discretisation : {"auto", "softened", "step"}
         The Dugdale law on the grid (:attr:`MaugisDugdaleProblem.law`).
 
     Returns
@@ -878,6 +880,93 @@ def _md_grid_band_rows(quick: bool) -> list[ValidationRow]:
     return rows
 
 
+def _md_step_rows(quick: bool) -> list[ValidationRow]:
+    """The thesis' step law, still selectable, on the Maugis-Dugdale table (lambda = 1; 0.3, 1, 2)."""
+    rows = []
+    for lam in ((1.0,) if quick else (0.3, 1.0, 2.0)):
+        prob = maugis_dugdale_problem(lam, discretisation="step")
+        rows += maugis_dugdale_rows(prob) + md_pull_off_rows(prob)
+    return rows
+
+
+#: Tolerance of the solver-agreement rows: relative force difference and differing nodes (at
+#: tol 1e-10 the two solvers' forces agree to 1e-9 or better; the step law's differ by 1-9 %).
+AGREEMENT_TOL = 1e-6
+
+
+def _agreement_rows(case: str, op, gap, law, **load) -> list[ValidationRow]:
+    """Polonsky-Keer against NormCG on one problem: force, F0+, and the differing contact and
+    cohesive nodes (as a fraction of the contact's)."""
+    pk = _solve(op, gap, interaction=law, tol=1e-10, method="polonsky_keer", max_iterations=20000, **load)
+    cg = _solve(op, gap, interaction=law, tol=1e-10, method="normcg", max_iterations=20000, **load)
+    if not (pk.converged and cg.converged):
+        return [ValidationRow(case, "both solvers converged", 1.0, 0.0, math.inf, 0.0, False)]
+    scale = abs(pk.repulsive_force)
+    n_c = max(int(np.count_nonzero(pk.contact)), 1)
+    differ = int(np.count_nonzero(pk.contact != cg.contact) + np.count_nonzero(pk.adhesive != cg.adhesive))
+    return [
+        _row(case, "force, NormCG against Polonsky-Keer (of F0+)", pk.force, cg.force, AGREEMENT_TOL, scale=scale),
+        _row(case, "F0+, NormCG against Polonsky-Keer", pk.repulsive_force, cg.repulsive_force, AGREEMENT_TOL),
+        _row(case, f"contact and cohesive nodes that differ (of {n_c} contact nodes)", 0.0, differ / n_c, 0.0),
+    ]
+
+
+def _md_solver_agreement_rows(quick: bool) -> list[ValidationRow]:
+    """The softened law: one equilibrium whatever the solver (spheres, the wavy sphere, a rough sphere)."""
+    from ..elasticity.bodies.halfspace import halfspace_self_compliance
+    from ..geometry import self_affine_surface
+
+    rows = []
+    for lam, n, control in (((1.0, 160, "approach"),) if quick else
+                            ((1.0, 160, "approach"), (2.0, 160, "force"), (2.0, 320, "approach"))):
+        prob = maugis_dugdale_problem(lam, n=n, discretisation="softened")
+        load = ({"approach": float(prob.reference(force=prob.F_scale).approach)} if control == "approach"
+                else {"force": 0.0})
+        rows += _agreement_rows(f"md_solver_agreement sphere lambda={lam:g} {n}^2 ({control})", prob.operator,
+                                prob.gap, prob.law, **load)
+    if not quick:
+        gp = guduru_problem(0.3, n=128, domain=5.0)
+        c = halfspace_self_compliance(gp.grid.dx, gp.grid.dy, PAIR.effective_modulus)
+        rows += _agreement_rows("md_solver_agreement wavy sphere alpha=0.3 128^2", gp.operator, gp.gap,
+                                SoftenedDugdale.for_cell(gp.adhesion.work_of_adhesion, gp.adhesion.z0, c),
+                                approach=-0.5 * gp.D_unit)
+    grid = Grid.square(128, 1e-6)
+    z = self_affine_surface(grid, hurst=0.8, rms_height=2e-9, long_cutoff=0.25e-6, short_cutoff=1e-6 / 32, seed=3)
+    gap = grid.radius() ** 2 / (2 * 20e-6) + (z.max() - z)
+    gap -= gap.min()
+    c = halfspace_self_compliance(grid.dx, grid.dy, PAIR.effective_modulus)
+    rows += _agreement_rows("md_solver_agreement rough sphere 128^2", free_boundary_operator(grid, PAIR), gap,
+                            SoftenedDugdale.for_cell(0.1, 0.3e-9, c), approach=3e-9)
+    return rows
+
+
+def _exponential_rows(quick: bool) -> list[ValidationRow]:
+    """Exponential adhesion: a stiff sphere's exact force and the DMT limit of the elastic sphere
+    (and Tamaas's functional where Tamaas is installed, benchmarks/exponential_vs_tamaas.py)."""
+    from ..interactions.exponential import ExponentialAdhesion
+    from ..materials import ContactPair, Material
+
+    rows = []
+    R, rho, w = 2.5e-6, 0.3e-9, 0.05
+    grid = Grid.square(128, 2 * math.sqrt(2 * R * rho * 14))
+    stiff = free_boundary_operator(grid, ContactPair(Material(1e16, 0.2), Material.rigid()))
+    law = ExponentialAdhesion(w, rho)
+    for D in (0.5, 2.0):
+        res = _solve(stiff, sphere(grid, R), approach=-D * rho, interaction=law, tol=1e-12)
+        rows.append(_row("exponential stiff sphere 128^2", f"force at D = {D:g} rho (-2 pi R w exp(-D/rho))",
+                         -2 * math.pi * R * w * math.exp(-D), res.force if res.converged else math.nan, 1e-3))
+    E = PAIR.effective_modulus
+    law = ExponentialAdhesion.from_tabor(0.01, R, E, rho)
+    grid = Grid.square(128, 2 * math.sqrt(2 * R * rho * 12))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        po = pull_off(free_boundary_operator(grid, PAIR), sphere(grid, R), law, preload=math.pi * R * law.work_of_adhesion,
+                      n_steps=40, refine=16)
+    rows.append(_row("exponential sphere mu=0.01 128^2", "pull-off against DMT -2 pi R w",
+                     -2 * math.pi * R * law.work_of_adhesion, po.force, 0.015))
+    return rows
+
+
 def _guduru_rows(quick: bool) -> list[ValidationRow]:
     rows = []
     if quick:
@@ -893,5 +982,8 @@ CASES: dict[str, Callable[[bool], list[ValidationRow]]] = {
     "maugis_dugdale": _md_rows,
     "md_pull_off": _md_pull_off_rows,
     "md_grid_band": _md_grid_band_rows,
+    "md_step": _md_step_rows,
+    "md_solver_agreement": _md_solver_agreement_rows,
+    "exponential": _exponential_rows,
     "guduru": _guduru_rows,
 }

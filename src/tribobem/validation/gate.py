@@ -114,7 +114,7 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
     "force_balance": "full", "periodic_vs_free": "full",
     # adhesion
     "maugis_dugdale": md_gate_rows, "md_pull_off": md_pull_off_gate_rows, "md_grid_band": "full",
-    "guduru": "full",
+    "md_step": "quick", "md_solver_agreement": "full", "exponential": "full", "guduru": "full",
     # tangential
     "cattaneo_mindlin": "full", "cattaneo_periodic": "full", "mindlin_stiffness": "full", "coupling_sign": "full",
     "spence": "full",
