@@ -352,11 +352,13 @@ def _compare(ref: dict, got: dict, where: str) -> dict:
 def test_a_host_array_planted_in_a_run_is_caught(monkeypatch):
     """The run check cannot pass silently: a law that builds its stress on the host (harmless
     on the NumPy backend) stops the same run on the strict backend, as it would on a GPU."""
-    from tribobem.interactions.dugdale import SoftenedDugdale
+    from tribobem.interactions.dugdale import DugdaleAdhesion, SoftenedDugdale
 
     def leaky(self, gap, xp):
         return xp.where(gap < self.h0, np.full(gap.shape, -self.sigma0), 0.0)
 
+    # both discretisations (discretisation = "auto" picks one by the grid)
+    monkeypatch.setattr(DugdaleAdhesion, "outside_stress", leaky)
     monkeypatch.setattr(SoftenedDugdale, "outside_stress", leaky)
     sc = CASES["pulloff"]
     assert _run(sc).summary["converged"]
