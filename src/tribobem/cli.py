@@ -259,6 +259,12 @@ def _print_summary(summary: dict, outdir: Path | None, console: Console) -> None
     elif summary.get("pull_off_force") is not None:
         console.print(f"pull-off force: [bold]{format_quantity(summary['pull_off_force'], 'force', 4)}[/bold] "
                       f"at approach {format_quantity(summary.get('pull_off_approach'), 'length', 4)}")
+    levels = summary.get("grid_levels")
+    if isinstance(levels, dict) and levels.get("levels"):
+        change = levels.get("change")
+        console.print("grid levels: " + ", ".join(
+            f"{lv['n']}^2 {format_quantity(lv['pull_off_force'], 'force', 4)}" for lv in levels["levels"])
+            + (f"; change between the last two {100 * change:+.1f} %" if change is not None else ""))
     prob = summary.get("problem", {})
     if prob.get("tabor_parameter") is not None:
         maugis = prob.get("maugis_parameter")

@@ -102,15 +102,71 @@ def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
         run["cohesive_zone_cells"] = w if math.isfinite(w) else None
     if load.loading:
         run["hysteresis_energy"] = curve.hysteresis_energy
+    notes = list(po.notes)
+    if load.grid_levels:
+        run["grid_levels"] = levels = _grid_levels(pb, load, kw, po, bar)
+        change = levels["change"]
+        if change is not None and abs(change) > GRID_LEVEL_RTOL:
+            notes.append(f"grid_levels: the pull-off moved by {100 * change:+.1f} % between the last two grid levels "
+                         f"({levels['levels'][-2]['n']}^2 and {levels['levels'][-1]['n']}^2), more than "
+                         f"{100 * GRID_LEVEL_RTOL:g} %: not converged in the grid; add load.grid_levels or refine grid.n")
     # index of the preload state in the steps: the first unloading row
     idx_pre = n_loading if len(rows) > n_loading else -1
     return RunOutput(rows=rows, results=[start, at], labels=["preload", "pull-off"], indices=[idx_pre, -1],
-                     curve=curve, run=run, warnings=list(po.notes))
+                     curve=curve, run=run, warnings=notes)
+
+
+#: Largest change of the pull-off between the last two grid levels before a warning (load.grid_levels).
+GRID_LEVEL_RTOL = 0.05
+
+
+def _grid_levels(pb, load, kw, po, bar) -> dict:
+    """The pull-off again on grids 2^k times finer over the same domain (``load.grid_levels``).
+
+    Each level is the scenario with ``grid.n`` (or nx, ny) multiplied, built anew: a measured
+    topography is interpolated bilinearly below its pixels (``Topography.resample``: the
+    converged number is the interpolant's), and the Dugdale law is the level's own (softened
+    where its ramp is narrow, ``discretisation = "auto"``).
+
+    Returns
+    -------
+    dict
+        ``levels``: per level ``n``, ``dx`` (m), ``pull_off_force`` (N), ``law`` and
+        ``cohesive_zone_cells``; ``change``: the relative change of the pull-off between the last two.
+    """
+    from ..interactions.dugdale import SoftenedDugdale
+    from ..scenario.build import build_problem
+
+    def entry(p, res, force):
+        w = cohesive_cells(res) if res is not None else math.nan
+        law = "softened" if isinstance(p.interaction, SoftenedDugdale) else type(p.interaction).__name__
+        return {"n": p.grid.nx, "dx": p.grid.dx, "pull_off_force": force, "law": law,
+                "cohesive_zone_cells": w if math.isfinite(w) else None}
+
+    out = [entry(pb, po.state, po.force)]
+    for k in range(1, load.grid_levels + 1):
+        sc = pb.scenario.model_copy(deep=True)
+        grid = sc.grid
+        if grid.n is not None:
+            grid.n = grid.n * 2**k
+        else:
+            grid.nx, grid.ny = grid.nx * 2**k, grid.ny * 2**k
+        pk = build_problem(sc)
+        total = load.steps + load.refine + 1
+        bar.phase(f"pull-off on {pk.grid.nx}x{pk.grid.ny} (grid level {k})", total)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            pok = pull_off(pk.operator, pk.gap, pk.interaction, preload=load.preload, control=load.control,
+                           n_steps=load.steps, refine=load.refine, progress=offset_progress(bar, 0, total), **kw)
+        out.append(entry(pk, pok.state, pok.force))
+    f0, f1 = out[-2]["pull_off_force"], out[-1]["pull_off_force"]
+    change = (f1 - f0) / abs(f0) if f0 and math.isfinite(f0) and math.isfinite(f1) else None
+    return {"levels": out, "change": change}
 
 
 #: Load keys of the pull-off (the humid one honours control and loading only at their
 #: displacement / no-loading values: check()).
-_DRY_LOAD = ("preload", "control", "steps", "refine", "loading")
+_DRY_LOAD = ("preload", "control", "steps", "refine", "loading", "grid_levels")
 
 
 def check(sc) -> None:
@@ -129,6 +185,9 @@ def check(sc) -> None:
         Through :func:`~tribobem.runs.kind.fail`, naming the offending scenario key.
     """
     require_elastic_body(sc)
+    if sc.load.grid_levels and (sc.two_scale is not None or sc.humidity is not None):
+        fail("load.grid_levels", "grid levels refine a whole-grid pull-off; a two-scale or humid pull-off has "
+                                 "its own resolution keys (two_scale.window_n, grid.n)")
     if sc.two_scale is not None:
         _check_two_scale(sc)
     if sc.humidity is not None:

@@ -665,7 +665,12 @@ class LoadSpec(Section):
     external load (the bodies brought into contact and let go: F = 0 on the contact branch).
     Either way the start is reached by loading under displacement control from the first touch
     (:func:`tribobem.solvers.normal_paths.solve_at_force`); a periodic cell that reaches full contact
-    below the preload starts from its last state short of full contact (a warning says so)."""
+    below the preload starts from its last state short of full contact (a warning says so).
+
+    ``grid_levels`` (kind pulloff, default 0): repeat the pull-off on grids 2, 4, ... 2^k times
+    finer over the same domain, a measured topography interpolated bilinearly below its pixels;
+    summary.json ``grid_levels`` gives each level's pull-off and the change between the last
+    two, and a change above 5 % is warned about."""
 
     force: Optional[Quantity("force")] = None
     approach: Optional[Quantity("length")] = None
@@ -677,6 +682,7 @@ class LoadSpec(Section):
     steps: Int(ge=2, le=100000) = 40
     refine: Int(ge=0, le=100) = 8
     loading: StrictBool = True
+    grid_levels: Int(ge=0, le=4) = 0
 
     @property
     def given(self) -> list[str]:
