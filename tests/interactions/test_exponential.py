@@ -137,3 +137,30 @@ def test_matches_tamaas_exponential_functional():
     assert r.converged
     assert r.force == pytest.approx(F_t, rel=1e-3)
     assert r.contact_area == pytest.approx(A_t, rel=1e-3)
+
+
+def test_lennard_jones_9_3_law_work_peak_and_dmt_pull_off():
+    """The 9-3 law with its hard wall at D = z0: work dgamma, peak = Dugdale's sigma0 at
+    D = 3^(1/6) z0, and the DMT pull-off -2 pi R dgamma of a nearly rigid sphere."""
+    from tribobem.interactions.dugdale import DugdaleAdhesion
+    from tribobem.interactions.lennard_jones import LennardJonesAdhesion
+
+    law = LennardJonesAdhesion(0.05, 0.3e-9)
+    g = np.linspace(0.0, 2000 * law.z0, 4000001)
+    s = law.outside_stress(g, np)
+    assert float(s[0]) == 0.0 == law.floor
+    assert -float(np.sum(0.5 * (s[1:] + s[:-1]) * np.diff(g))) == pytest.approx(0.05, rel=1e-5)
+    k = int(np.argmin(s))
+    assert -float(s[k]) == pytest.approx(DugdaleAdhesion(0.05, 0.3e-9).sigma0, rel=1e-6)
+    assert g[k] == pytest.approx((3 ** (1 / 6) - 1) * law.z0, rel=1e-3)
+    num = np.diff(s) / np.diff(g)
+    mid = 0.5 * (g[1:] + g[:-1])
+    assert np.allclose(num[:1000], law.outside_slope(mid[:1000], np), rtol=1e-4, atol=1e-6 * float(np.abs(num).max()))
+    # a stiff sphere at contact: the force is 2 pi R times the work from g = 0: -2 pi R dgamma
+    R = 2.5e-6
+    half = math.sqrt(2 * R * law.z0 * 400)
+    grid = Grid.square(256, 2 * half)
+    stiff = ContactPair(Material(1e16, 0.2), Material.rigid())
+    r = solve_normal(free_boundary_operator(grid, stiff), sphere(grid, R), approach=0.0, interaction=law, tol=1e-12)
+    assert r.converged
+    assert r.force == pytest.approx(-2 * math.pi * R * 0.05, rel=0.01)

@@ -16,6 +16,11 @@ piece, like a change of the contact set, as a change of the problem.  Without th
 (Dugdale: a step law; no interaction) every change of an outside stress counts as a change of
 the problem, as before.
 
+Optional, for smooth laws: ``outside_slope(gap, xp)`` (ds/dg, Pa/m), with which the solvers
+relax a node's update by its own response, and ``tension_limit`` (Pa), the law's most tensile
+stress where it is not the floor (a law that vanishes at contact, as the Lennard-Jones 9-3 one),
+to which a relaxed update is clipped.
+
 Optional, what callers would otherwise find out from the law's type (each read through the
 helper of the same purpose below, which supplies the default for a law that does not declare
 it; :mod:`tribobem.interactions.registry` ties a law to its ``[adhesion]`` table):
@@ -142,3 +147,28 @@ def law_result_checks(law) -> frozenset:
         Check names (its declared ``result_checks``); empty without a law or a declaration.
     """
     return frozenset(getattr(law, "result_checks", ()) or ())
+
+
+def require_positive(law, **units) -> None:
+    """Check that each named parameter of a law is finite and > 0 (its ``__post_init__``).
+
+    Parameters
+    ----------
+    law : object
+        The law (a dataclass).
+    **units : str
+        Parameter name -> its unit, for the message (``work_of_adhesion="J/m^2"``).
+
+    Raises
+    ------
+    InputError
+        Naming ``adhesion.<parameter>``.
+    """
+    import math
+
+    from ..errors import InputError
+
+    for name, unit in units.items():
+        value = getattr(law, name)
+        if not (math.isfinite(value) and value > 0):
+            raise InputError(f"adhesion.{name}", f"must be > 0 {unit}, got {value!r}")

@@ -46,6 +46,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InputError
+from .base import require_positive
 
 #: Widest ramp (in units of h0) that ``discretisation = "auto"`` (the default) softens: beyond it the
 #: ramp is no longer a small change of Dugdale's law (a cell coarse against the cohesive length
@@ -89,10 +90,7 @@ class DugdaleAdhesion:
     )
 
     def __post_init__(self):
-        if not (math.isfinite(self.work_of_adhesion) and self.work_of_adhesion > 0):
-            raise InputError("adhesion.work_of_adhesion", f"must be > 0 J/m^2, got {self.work_of_adhesion!r}")
-        if not (math.isfinite(self.z0) and self.z0 > 0):
-            raise InputError("adhesion.z0", f"must be > 0 m, got {self.z0!r}")
+        require_positive(self, work_of_adhesion="J/m^2", z0="m")
 
     @classmethod
     def from_spec(cls, spec, context=None) -> "DugdaleAdhesion":

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..errors import InputError
+from .base import require_positive
 
 __all__ = ["ExponentialAdhesion"]
 
@@ -61,10 +61,7 @@ class ExponentialAdhesion:
     )
 
     def __post_init__(self):
-        if not (math.isfinite(self.work_of_adhesion) and self.work_of_adhesion > 0):
-            raise InputError("adhesion.work_of_adhesion", f"must be > 0 J/m^2, got {self.work_of_adhesion!r}")
-        if not (math.isfinite(self.rho) and self.rho > 0):
-            raise InputError("adhesion.rho", f"must be > 0 m, got {self.rho!r}")
+        require_positive(self, work_of_adhesion="J/m^2", rho="m")
 
     @classmethod
     def from_spec(cls, spec, context=None) -> "ExponentialAdhesion":

@@ -135,7 +135,6 @@ def _grid_levels(pb, load, kw, po, bar) -> dict:
         ``cohesive_zone_cells``; ``change``: the relative change of the pull-off between the last two.
     """
     from ..interactions.dugdale import SoftenedDugdale
-    from ..scenario.build import build_problem
 
     def entry(p, res, force):
         w = cohesive_cells(res) if res is not None else math.nan
@@ -145,13 +144,7 @@ def _grid_levels(pb, load, kw, po, bar) -> dict:
 
     out = [entry(pb, po.state, po.force)]
     for k in range(1, load.grid_levels + 1):
-        sc = pb.scenario.model_copy(deep=True)
-        grid = sc.grid
-        if grid.n is not None:
-            grid.n = grid.n * 2**k
-        else:
-            grid.nx, grid.ny = grid.nx * 2**k, grid.ny * 2**k
-        pk = build_problem(sc)
+        pk = pb.refined(2**k)
         total = load.steps + load.refine + 1
         bar.phase(f"pull-off on {pk.grid.nx}x{pk.grid.ny} (grid level {k})", total)
         with warnings.catch_warnings():

@@ -122,6 +122,29 @@ class Problem:
         lower = self.shape1 - self.roughness1
         return lower + moved - self.gap_offset
 
+    def refined(self, factor: int) -> "Problem":
+        """The same scenario on a grid ``factor`` times finer per side over the same domain.
+
+        A measured topography is resampled onto it (bilinear below its pixels), and the stress
+        law is built for its cells (a softened Dugdale law has the finer cell's ramp).
+
+        Parameters
+        ----------
+        factor : int
+            Cells per side multiplied by this (>= 1).
+
+        Returns
+        -------
+        Problem
+        """
+        sc = self.scenario.model_copy(deep=True)
+        grid = sc.grid
+        if grid.n is not None:
+            grid.n = grid.n * int(factor)
+        else:
+            grid.nx, grid.ny = grid.nx * int(factor), grid.ny * int(factor)
+        return build_problem(sc, self.base_dir)
+
     @property
     def gap_offset(self) -> float:
         """The constant subtracted from shape1 + shape2 - rough1 - rough2 to make min(gap) = 0."""

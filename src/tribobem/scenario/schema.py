@@ -32,6 +32,7 @@ from ..units import DIMENSIONS, UnitMismatch, convert
 from ..interactions.base import NoInteraction
 from ..interactions.dugdale import SoftenedDugdale, build_dugdale
 from ..interactions.exponential import ExponentialAdhesion
+from ..interactions.lennard_jones import LennardJonesAdhesion
 from ..interactions.isotherms import isotherm_from_spec
 from ..interactions.registry import LAWS, one_of, register_law
 from ..units import registry
@@ -47,7 +48,7 @@ __all__ = [
     "LoadSpec",
     "AdhesionSpec",
     "NoAdhesionSpec",
-    "DugdaleAdhesionSpec", "ExponentialAdhesionSpec",
+    "DugdaleAdhesionSpec", "ExponentialAdhesionSpec", "LennardJonesAdhesionSpec",
     "adhesion_model",
     "FrictionSpec",
     "HumiditySpec",
@@ -694,15 +695,16 @@ class LoadSpec(Section):
 class AdhesionSpec(Section):
     """``[adhesion]``: the stress law that acts outside the contact, chosen by ``model``; the
     other keys are the law's (:class:`NoAdhesionSpec`, :class:`DugdaleAdhesionSpec`,
-    :class:`ExponentialAdhesionSpec`).
+    :class:`ExponentialAdhesionSpec`, :class:`LennardJonesAdhesionSpec`).
 
     ======  ====  ========  ==========================================================
     key     unit  default   meaning
     ======  ====  ========  ==========================================================
     model   -     see text  the law, a name of the stress-law registry
                             (:data:`tribobem.interactions.registry.LAWS`): ``"none"``,
-                            ``"dugdale"`` or ``"exponential"``; left out: ``"dugdale"``
-                            when ``work_of_adhesion`` is given, else ``"none"``
+                            ``"dugdale"``, ``"exponential"`` or ``"lennard_jones"``;
+                            left out: ``"dugdale"`` when ``work_of_adhesion`` is given,
+                            else ``"none"``
     ======  ====  ========  ==========================================================
 
     An unknown ``model`` is an error that lists the registered ones.  Each law's table is a
@@ -814,10 +816,38 @@ class ExponentialAdhesionSpec(AdhesionSpec):
         return self
 
 
+class LennardJonesAdhesionSpec(AdhesionSpec):
+    """``[adhesion] model = "lennard_jones"``: the 9-3 Lennard-Jones stress with a hard wall at its
+    zero-force separation (:class:`~tribobem.interactions.lennard_jones.LennardJonesAdhesion`;
+    gap datum: contact is D = z0).
+
+    ================  ======  ================  =========================================
+    key               unit    default           meaning
+    ================  ======  ================  =========================================
+    model             -       "lennard_jones"   the Lennard-Jones 9-3 law
+    work_of_adhesion  J/m^2   required          work of adhesion dgamma, > 0
+    z0                m       required          equilibrium separation, > 0
+    ================  ======  ================  =========================================
+    """
+
+    model: Literal["lennard_jones"] = "lennard_jones"
+    work_of_adhesion: Optional[Quantity("surface_energy", gt=0)] = None
+    z0: Optional[Quantity("length", gt=0)] = None
+
+    @model_validator(mode="after")
+    def _complete(self):
+        if self.work_of_adhesion is None:
+            _fail("work_of_adhesion", "required with model = 'lennard_jones' (e.g. \"50 mJ/m^2\")")
+        if self.z0 is None:
+            _fail("z0", "required with model = 'lennard_jones' (e.g. \"0.3 nm\")")
+        return self
+
+
 # The built-in laws (a new law: its module in tribobem/interactions/, its spec above, one line here).
 register_law("none", NoAdhesionSpec, NoInteraction, build=lambda spec, context: None)  # None: no law
 register_law("dugdale", DugdaleAdhesionSpec, SoftenedDugdale, build=build_dugdale)
 register_law("exponential", ExponentialAdhesionSpec, ExponentialAdhesion)
+register_law("lennard_jones", LennardJonesAdhesionSpec, LennardJonesAdhesion)
 
 
 def adhesion_model(table: Any) -> Any:

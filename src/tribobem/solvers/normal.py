@@ -747,7 +747,7 @@ class _CGState(IterativeSolver):
             out_new -= self.p
             out_new /= 1.0 - gain
             out_new += self.p
-            self.xp.clip(out_new, self.floor, 0.0, out=out_new)
+            self.xp.clip(out_new, getattr(self.inter, "tension_limit", self.floor), 0.0, out=out_new)
         out_new[self.idx] = step.p_c_old  # compare only the non-contact nodes below
         step.out_new = out_new
         return not bool(self.xp.array_equal(out_new, self.p))

@@ -541,7 +541,8 @@ class _NormCG(IterativeSolver):
         if self.self_c is None:
             self.self_c = _self_compliance(self.op)
         gain = xp.clip(self.self_c * slope_fn(g, xp), 0.0, RELAX_GAIN)
-        return xp.clip(self.p + (out - self.p) / (1.0 - gain), self.floor, 0.0)
+        # clipped to the law's own range of stresses (its most tensile value, the floor by default)
+        return xp.clip(self.p + (out - self.p) / (1.0 - gain), getattr(self.inter, "tension_limit", self.floor), 0.0)
 
     def start(self):
         """Force balance of the initial pressure, exact displacement, first classification."""
