@@ -241,7 +241,13 @@ def test_validate_ci_tier_by_physics(fake_validation, monkeypatch):
     assert 0.2 <= d["cpu_time"] < 5 and 0.1 < d["wall_time"] < 5
 
 
-@pytest.mark.parametrize("example", EXAMPLES, ids=[e.stem for e in EXAMPLES])
+#: Examples whose run takes minutes: their CLI run is a slow test (test_examples.SLOW holds their
+#: expectation checks).
+SLOW_EXAMPLES = {"pulloff_afm_park_levels"}
+
+
+@pytest.mark.parametrize("example", [pytest.param(e, marks=[pytest.mark.slow] if e.stem in SLOW_EXAMPLES else [])
+                                     for e in EXAMPLES], ids=[e.stem for e in EXAMPLES])
 def test_every_example_runs(example):
     from tribobem.scenario import run_scenario
 
