@@ -385,8 +385,8 @@ class SoftenedDugdale(DugdaleAdhesion):
             Stress (Pa, negative = tensile), shape of ``gap``.
         """
         lo, hi, peak = self._ramp
-        if hi <= lo:
-            return xp.where(gap < self.h0, -self.sigma0, 0.0)
+        if hi <= lo:  # no ramp: Dugdale's step
+            return super().outside_stress(gap, xp)
         return -peak * xp.clip((hi - gap) / (hi - lo), 0.0, 1.0)
 
     def outside_branch(self, gap, xp):

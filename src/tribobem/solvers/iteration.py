@@ -33,7 +33,42 @@ DEFER_RATIO = 10.0
 #: be two-valued, and the update is capped rather than amplified without bound.
 RELAX_GAIN = 0.8
 
-__all__ = ["IterationOutcome", "IterativeSolver", "dot", "report_failure", "run_iterations"]
+__all__ = ["IterationOutcome", "IterativeSolver", "dot", "relaxed_outside_update", "report_failure", "run_iterations"]
+
+
+def relaxed_outside_update(p, s, slope, self_c, lower, xp, out=None):
+    """The outside load's update relaxed by each node's own response (Pa).
+
+    The fixed point p <- s(g) ignores that a node's own change of tension moves its gap by
+    C dp (C the cell's self-compliance, m/Pa); solving p' = s(g + C (p' - p)) for the local
+    linearisation gives p' = p + (s(g) - p) / (1 - C s'(g)), which settles a node on a
+    softening piece of the law in one step instead of a geometric series of ratio C s'.
+    Gains C s' above :data:`RELAX_GAIN` are capped there (the node would be two-valued).
+
+    Parameters
+    ----------
+    p : array
+        The current outside stresses (Pa, <= 0).
+    s : array
+        The law's stresses at the current gaps (Pa); overwritten when ``out`` is ``s``.
+    slope : array
+        The law's slope ds/dg at the current gaps (Pa/m).
+    self_c : float
+        The cell's self-compliance C (m/Pa).
+    lower : float
+        The most tensile stress the law allows (Pa, < 0); the result lies in [lower, 0].
+    xp : module
+        The array module.
+    out : array, optional
+        Where to write the result (may be ``s``).
+    """
+    gain = xp.clip(self_c * slope, 0.0, RELAX_GAIN)
+    if out is None:
+        out = xp.empty_like(s)
+    xp.subtract(s, p, out=out)
+    out /= 1.0 - gain
+    out += p
+    return xp.clip(out, lower, 0.0, out=out)
 
 
 def dot(a, b) -> float:

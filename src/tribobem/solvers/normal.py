@@ -77,7 +77,7 @@ from ..elasticity.operators import ConvolutionOperator
 from ..errors import InputError
 from ..interactions.base import NoInteraction
 from ..results import NormalResult
-from .iteration import DEFER_RATIO, RELAX_GAIN, IterativeSolver, dot, run_iterations
+from .iteration import DEFER_RATIO, IterativeSolver, dot, relaxed_outside_update, run_iterations
 from .normal_problem import _self_compliance, normal_problem, normal_result
 
 #: Largest number of nodes whose pressure may change outside the CG step (leavers, entering
@@ -742,12 +742,9 @@ class _CGState(IterativeSolver):
             return False
         out_new = self.inter.outside_stress(self.g, self.xp)
         if self.slope_fn is not None:
-            # the node's own response (normal_cg._NormCG._relaxed): p + (s - p) / (1 - C s')
-            gain = self.xp.clip(_self_compliance(self.op) * self.slope_fn(self.g, self.xp), 0.0, RELAX_GAIN)
-            out_new -= self.p
-            out_new /= 1.0 - gain
-            out_new += self.p
-            self.xp.clip(out_new, getattr(self.inter, "tension_limit", self.floor), 0.0, out=out_new)
+            # relaxed by the node's own response: p + (s - p) / (1 - C s')
+            relaxed_outside_update(self.p, out_new, self.slope_fn(self.g, self.xp), _self_compliance(self.op),
+                                   getattr(self.inter, "tension_limit", self.floor), self.xp, out=out_new)
         out_new[self.idx] = step.p_c_old  # compare only the non-contact nodes below
         step.out_new = out_new
         return not bool(self.xp.array_equal(out_new, self.p))

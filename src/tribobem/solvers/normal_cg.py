@@ -75,7 +75,7 @@ from ..elasticity.operators import ConvolutionOperator
 from ..errors import InputError
 from ..interactions.base import NoInteraction
 from ..results import NormalResult
-from .iteration import DEFER_RATIO, RELAX_GAIN, IterativeSolver, dot, run_iterations
+from .iteration import DEFER_RATIO, IterativeSolver, dot, relaxed_outside_update, run_iterations
 from .normal_problem import _self_compliance, normal_problem, normal_result
 
 __all__ = ["solve_normal_cg", "fft_preconditioner"]
@@ -526,23 +526,15 @@ class _NormCG(IterativeSolver):
         return None
 
     def _relaxed(self, out, g):
-        """The outside load's update, relaxed by each node's own response (a law with ``outside_slope``).
-
-        The fixed point p <- s(g) ignores that a node's own change of tension moves its gap by
-        C dp (C the cell's self-compliance); solving p' = s(g + C (p' - p)) for the local
-        linearisation gives p' = p + (s(g) - p) / (1 - C s'(g)), which settles a node on a
-        softening piece of the law in one step instead of a geometric series of ratio C s'.
-        Gains C s' above :data:`~.iteration.RELAX_GAIN` are capped there (the node would be two-valued).
-        """
+        """The outside load's update relaxed by each node's own response
+        (:func:`~.iteration.relaxed_outside_update`; a law with ``outside_slope``)."""
         slope_fn = getattr(self.inter, "outside_slope", None)
         if slope_fn is None:
             return out
-        xp = self.xp
         if self.self_c is None:
             self.self_c = _self_compliance(self.op)
-        gain = xp.clip(self.self_c * slope_fn(g, xp), 0.0, RELAX_GAIN)
-        # clipped to the law's own range of stresses (its most tensile value, the floor by default)
-        return xp.clip(self.p + (out - self.p) / (1.0 - gain), getattr(self.inter, "tension_limit", self.floor), 0.0)
+        return relaxed_outside_update(self.p, out, slope_fn(g, self.xp), self.self_c,
+                                      getattr(self.inter, "tension_limit", self.floor), self.xp)
 
     def start(self):
         """Force balance of the initial pressure, exact displacement, first classification."""

@@ -49,7 +49,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from typing import Callable, Sequence
 
 import numpy as np
@@ -121,7 +121,7 @@ class MaugisDugdaleProblem:
     F_pull_off: float
     discretisation: str = "auto"
 
-    @property
+    @cached_property
     def law(self):
         """The law the solves use, as a scenario builds it (:func:`~tribobem.interactions.dugdale.build_dugdale`):
         Dugdale softened at this grid's cell (``"softened"``), the step (``"step"``,
