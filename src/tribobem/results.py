@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Optional
 
 import numpy as np
 
@@ -61,6 +61,14 @@ class NormalResult:
     info : dict
         Diagnostics of the solve: ``max_penetration`` (m), the interaction and operator, and
         the solver's own entries (e.g. its counters).
+    plastic : ndarray of bool or None
+        With a hardness cap: the contact nodes at p = H (plastic); None without a cap.
+    plastic_increment : ndarray or None
+        With a hardness cap: the overlap of the plastic nodes that this solve added to the
+        surface's permanent displacement (m, >= 0); None when no node is plastic.
+    plastic_displacement : ndarray or None
+        With a hardness cap: the surface's accumulated plastic displacement after this solve
+        (m, >= 0; :class:`~tribobem.interactions.hardness.HardnessCap`); None without one.
     """
 
     grid: Grid
@@ -78,11 +86,19 @@ class NormalResult:
     message: str = ""
     control: str = "force"
     info: dict = field(default_factory=dict)
+    plastic: Optional[np.ndarray] = None
+    plastic_increment: Optional[np.ndarray] = None
+    plastic_displacement: Optional[np.ndarray] = None
 
     @property
     def residual(self) -> float:
         """Final residual (relative pressure change of the last iteration)."""
         return float(self.residual_history[-1]) if len(self.residual_history) else float("nan")
+
+    @property
+    def plastic_area(self) -> float:
+        """Area of the plastic nodes, p = H (m^2; 0 without a hardness cap)."""
+        return float(np.count_nonzero(self.plastic)) * self.grid.cell_area if self.plastic is not None else 0.0
 
     @property
     def contact_area(self) -> float:

@@ -76,6 +76,7 @@ from ..elasticity.columns import KernelColumns, convolve, convolve_buffers
 from ..elasticity.operators import ConvolutionOperator
 from ..errors import InputError
 from ..interactions.base import NoInteraction
+from ..interactions.hardness import HardnessCap
 from ..results import NormalResult
 from .iteration import DEFER_RATIO, IterativeSolver, dot, relaxed_outside_update, run_iterations
 from .normal_problem import _self_compliance, normal_problem, normal_result
@@ -281,6 +282,10 @@ def solve_normal(
     ConvergenceError
         With ``strict``, when the solver does not converge.
     """
+    if isinstance(interaction, HardnessCap):
+        # the hardness cap is a bound of NormCG's bound-constrained CG (Polonsky-Keer has none):
+        # a capped solve is NormCG's, whatever the method asked for (info["method"] says so)
+        method = "normcg"
     method = resolve_method(method, interaction is not None and not isinstance(interaction, NoInteraction))
     if method == "normcg":
         from .normal_cg import solve_normal_cg

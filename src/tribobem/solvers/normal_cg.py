@@ -74,6 +74,7 @@ import numpy as np
 from ..elasticity.operators import ConvolutionOperator
 from ..errors import InputError
 from ..interactions.base import NoInteraction
+from ..interactions.hardness import unwrap_cap
 from ..results import NormalResult
 from .iteration import DEFER_RATIO, IterativeSolver, dot, relaxed_outside_update, run_iterations
 from .normal_problem import _self_compliance, normal_problem, normal_result
@@ -230,6 +231,15 @@ def solve_normal_cg(
     t_start = time.perf_counter()
     op = operator.normal
     xp, grid = op.xp, op.grid
+    law, cap = unwrap_cap(interaction)
+    if cap is not None:
+        # the capped problem: p <= H on the gap raised by the plastic displacement so far; the
+        # coarse start (an uncapped solve) is not a start for it
+        interaction, coarse_levels = law, 0
+        offset = cap.offset(grid.shape, xp)
+        if offset is not None:
+            gap = xp.asarray(gap, dtype=float) + offset
+        del offset
     levels = _coarse_levels(coarse_levels, op, gap, interaction, initial_pressure, precondition)
     coarse_info = None
     if levels:
@@ -257,18 +267,37 @@ def solve_normal_cg(
     # The solver works on p and contact in place (normal_problem made them; no copies), and
     # the warm start's own array is no longer needed: one grid field less at the peak.
     del initial_pressure, initial_contact
+    ceiling = cap.hardness if cap is not None else math.inf
+    if ceiling <= max(floor, 0.0):
+        raise InputError("hardness", f"must exceed the law's floor {floor!r} Pa and 0, got {ceiling!r}")
+    if cap is not None and force_control and target > ceiling * h.size:
+        raise InputError("solve_normal.force", f"{force!r} N exceeds the hardness times the nominal area "
+                         f"({ceiling * grid.area!r} N): no capped contact carries it")
     solver = _NormCG(op, inter, floor, h_eff, p, contact, target, refresh,
-                     fft_preconditioner(op) if precondition else None, u0)
+                     fft_preconditioner(op) if precondition else None, u0, ceiling)
     del p, contact, u0
     outcome = run_iterations(solver, tol=tol, max_iterations=max_iterations, stall=stall)
     p = solver.p.reshape(grid.shape)
+    plastic = solver.pm.reshape(grid.shape) if solver.pm is not None else None
     contact = solver.cm.reshape(grid.shape)
+    if plastic is not None:
+        contact = contact | plastic
     # the exact K p of the last (converged) iterate, else recomputed
     u = solver.u.reshape(grid.shape) if solver.exact else op.apply(p)
     counts = {"set_changes": solver.set_changes, "convolutions": solver.convolutions}
     del solver
-    return normal_result(op, h, p, contact, u, approach, inter, outcome, strict, t_start,
-                          {"method": "normcg" if precondition else "bccg", **counts, "coarse": coarse_info})
+    res = normal_result(op, h, p, contact, u, approach, inter, outcome, strict, t_start,
+                        {"method": "normcg" if precondition else "bccg", **counts, "coarse": coarse_info},
+                        plastic=plastic)
+    if cap is not None:
+        # the plastic nodes' overlap becomes permanent once the solve has converged (a failed
+        # solve leaves the body as it was)
+        if res.converged and res.plastic_increment is not None:
+            cap.commit(res.plastic_increment)
+        res.plastic_displacement = cap.plastic
+        res.info["hardness"] = cap.hardness
+        res.info["interaction"] = repr(cap)
+    return res
 
 
 def _coarse_levels(levels, op, gap, interaction, initial_pressure, precondition) -> int:
@@ -377,7 +406,7 @@ class _NormCG(IterativeSolver):
     force control), ``d`` the search direction on the full grid (0 off the contact).
     """
 
-    def __init__(self, op, inter, floor, h_eff, p, contact, target, refresh, pre, u0=None):
+    def __init__(self, op, inter, floor, h_eff, p, contact, target, refresh, pre, u0=None, ceiling=math.inf):
         xp = op.xp
         self.u0 = u0  # K p of the start, when the caller knew it (see solve_normal_cg)
         self.scale = 1.0  # the last force-balance scale (_balance)
@@ -390,6 +419,14 @@ class _NormCG(IterativeSolver):
         self.h_scale = max(float(self.h.max() - self.h.min()), 1e-300)
         self.p = xp.asarray(p, dtype=float).ravel()  # owned: made by normal_problem
         self.cm = xp.asarray(contact, dtype=bool).ravel()
+        # the hardness cap: plastic nodes (p = ceiling, overlap allowed) leave the contact set as
+        # nodes at the floor do; None without a cap (no extra grid field)
+        self.ceiling = float(ceiling)
+        self.pm = None
+        if math.isfinite(self.ceiling):
+            self.pm = self.p >= self.ceiling
+            xp.minimum(self.p, self.ceiling, out=self.p)
+            self.cm &= ~self.pm
         self.idx = xp.flatnonzero(self.cm)
         n = self.p.size
         self.d = xp.zeros(n)        # search direction, 0 off the contact
@@ -448,6 +485,8 @@ class _NormCG(IterativeSolver):
     def _balance(self) -> bool:
         """Force control: scale p - floor on the contact to the target force.  False when
         the contact cannot carry it (beyond pull-off).  The scale applied is ``self.scale``."""
+        if self.pm is not None:
+            return self._balance_capped()
         idx, floor = self.idx, self.floor
         if len(idx) == 0:
             return False
@@ -462,6 +501,67 @@ class _NormCG(IterativeSolver):
         self.p[idx] = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
         return True
 
+    def _balance_capped(self) -> bool:
+        """:meth:`_balance` with the hardness cap: the plastic nodes carry H each; nodes the
+        rescale lifts above H become plastic, and when the plastic nodes alone carry more than
+        their share, they return to the contact set and the whole contact is rescaled."""
+        xp, floor, ceil = self.xp, self.floor, self.ceiling
+        for _ in range(1000):
+            idx = self.idx
+            n_pl = int(xp.count_nonzero(self.pm))
+            p_c = self.p[idx]
+            sum_c = float(p_c.sum())
+            carried = float(self.p.sum()) - sum_c  # outside stresses and the plastic nodes' H
+            need = self.target - carried - floor * len(idx)
+            if need <= 0 and n_pl:
+                back = xp.flatnonzero(self.pm)
+                self.pm[back] = False
+                self.cm[back] = True
+                self.idx = xp.flatnonzero(self.cm)
+                self.changed = True
+                continue
+            free = sum_c - floor * len(idx)
+            if need > 0 and (len(idx) == 0 or free <= 0):
+                return self._touch_next(need)
+            if need <= 0:
+                return False
+            scale = need / free
+            self.scale = scale
+            p_c = scale * (p_c - floor) + floor if floor != 0.0 else scale * p_c
+            self.p[idx] = p_c
+            over = p_c > ceil
+            if not bool(over.any()):
+                return True
+            self._to_plastic(idx[over])
+        return False
+
+    def _touch_next(self, need: float) -> bool:
+        """Every loaded node is plastic and they carry less than the force: the bodies approach
+        until the next nodes touch.  The ceil(need / H) + 1 free nodes of smallest gap enter the
+        contact sharing ``need`` (sum of p, Pa), each below H; the CG takes it from there."""
+        xp = self.xp
+        free_nodes = xp.flatnonzero(~self.cm & ~self.pm)
+        m = min(int(math.ceil(need / self.ceiling)) + 1, len(free_nodes))
+        if m == 0 or need / m >= self.ceiling:
+            return False
+        g = (self.h + self.u)[free_nodes] if getattr(self, "u", None) is not None else self.h[free_nodes]
+        nodes = free_nodes[xp.argpartition(g, m - 1)[:m]] if m < len(free_nodes) else free_nodes
+        self.p[nodes] = need / m
+        self.cm[nodes] = True
+        self.idx = xp.flatnonzero(self.cm)
+        self.changed = True
+        self.scale = 1.0
+        return True
+
+    def _to_plastic(self, nodes):
+        """Contact nodes that reach the cap: p = ceiling, off the contact set (overlap allowed)."""
+        self.p[nodes] = self.ceiling
+        self.pm[nodes] = True
+        self.cm[nodes] = False
+        self.d[nodes] = 0.0
+        self.idx = self.xp.flatnonzero(self.cm)
+        self.changed = True
+
     def _classify(self):
         """Update the approach, let overlapping nodes enter, re-evaluate the outside stresses,
         and form the contact residual.  Sets ``self.changed`` when anything changed."""
@@ -474,6 +574,13 @@ class _NormCG(IterativeSolver):
         # Non-contact nodes that overlap enter with their current pressure (the outside
         # stress at g -> 0, i.e. the floor for a Dugdale law, 0 without adhesion).
         overlap = (g < 0) & ~self.cm
+        if self.pm is not None:
+            # plastic nodes stay plastic while they overlap; one whose gap opens unloads
+            # elastically: it enters the contact set at p = H, where the CG lowers it
+            back = self.pm & (g > 0)
+            overlap &= ~self.pm
+            overlap |= back
+            self.pm &= ~back
         entered = bool(overlap.any())
         if entered:
             self.cm |= overlap
@@ -482,7 +589,7 @@ class _NormCG(IterativeSolver):
         self.out_error = 0.0
         if self.has_outside:
             out = self._relaxed(self.inter.outside_stress(g, xp), g)
-            out = xp.where(self.cm, self.p, out)
+            out = xp.where(self.cm if self.pm is None else self.cm | self.pm, self.p, out)
             defer = False
             smooth = False
             if self.branch_fn is not None and not entered:
@@ -517,6 +624,8 @@ class _NormCG(IterativeSolver):
                 # The new outside load may close nodes (the adhesive pull): they enter too;
                 # without this a state with no contact node stopped at once with overlaps.
                 overlap = (g < 0) & ~self.cm
+                if self.pm is not None:
+                    overlap &= ~self.pm
                 if bool(overlap.any()):
                     self.cm |= overlap
                     self.idx = idx = xp.flatnonzero(self.cm)
@@ -637,8 +746,15 @@ class _NormCG(IterativeSolver):
             leavers = idx[leave]
             self.cm[leavers] = False
             self.d[leavers] = 0.0
-            self.idx = idx = xp.flatnonzero(self.cm)
+            self.idx = xp.flatnonzero(self.cm)
             self.changed = True
+        if self.pm is not None:
+            up = p_c >= self.ceiling
+            if bool(up.any()):
+                self._to_plastic(idx[up])  # (the old idx: up is indexed as p_c)
+                any_leave = True
+        idx = self.idx
+        if any_leave:
             if self.force_control and not self._balance():
                 return ("the contact cannot carry the requested force: the load is beyond "
                         "pull-off (no equilibrium under force control)")

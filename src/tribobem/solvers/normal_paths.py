@@ -27,6 +27,7 @@ import numpy as np
 
 from ..elasticity.operators import ConvolutionOperator
 from ..errors import ConvergenceWarning, InputError
+from ..interactions.hardness import unwrap_cap
 from ..results import LoadCurve, NormalResult, PullOff
 from .coupling import solve_coupled
 from .normal import solve_normal
@@ -371,6 +372,16 @@ class _ForcePath:
         self.cold_up = False  # set once a warm-started loading step has failed where a cold one converged
         self.fallbacks = 0
         self.cold_failed = set()  # approaches (m) where a cold solve did not converge
+        # a hardness cap: every trial of the search loads from the plastic state of the path's
+        # start (monotone loading), so that a trial beyond the target leaves no flattening behind
+        self.cap = unwrap_cap(interaction)[1]
+        self.base = self.cap.plastic if self.cap is not None else None
+
+    def _solve(self, warm, method="polonsky_keer", **load):
+        if self.cap is not None:
+            self.cap.plastic = self.base
+        return _solve_quiet(self.operator, self.h, self.interaction, self.tol, self.max_iterations, warm,
+                            method=method, **load)
 
     def report(self):
         """Tell ``progress`` how many solves have run."""
@@ -394,8 +405,7 @@ class _ForcePath:
         states it takes from it.
         """
         self.solves += 1
-        return _solve_quiet(self.operator, self.h, self.interaction, self.tol, self.max_iterations, warm,
-                            method="normcg", approach=float(d))
+        return self._solve(warm, method="normcg", approach=float(d))
 
     def solve(self, d, warm, fallback=False):
         """Polonsky-Keer at approach ``d`` (m) from ``warm`` (None: cold), cold if that fails.
@@ -403,8 +413,7 @@ class _ForcePath:
         With ``fallback``, NormCG from ``warm`` where both fail.
         """
         loading = warm is not None and d > warm.approach
-        res = _solve_quiet(self.operator, self.h, self.interaction, self.tol, self.max_iterations,
-                           None if (self.cold_up and loading) else warm, approach=float(d))
+        res = self._solve(None if (self.cold_up and loading) else warm, approach=float(d))
         self.solves += 1
         if not res.converged and warm is not None and not (self.cold_up and loading) and d > 0 \
                 and d not in self.cold_failed:
@@ -412,8 +421,7 @@ class _ForcePath:
             # approach converges (Maugis lambda = 5 on 1248^2: 2500-4500 iterations warm, 1500
             # cold); a cold start at a positive approach lands on the contact branch.  A cold
             # solve is the same at the same approach: one that failed is not tried again.
-            cold = _solve_quiet(self.operator, self.h, self.interaction, self.tol, self.max_iterations, None,
-                                approach=float(d))
+            cold = self._solve(None, approach=float(d))
             self.solves += 1
             if cold.converged:
                 res, self.cold_up = cold, self.cold_up or loading
@@ -429,6 +437,9 @@ class _ForcePath:
         """``res`` with the path's entries added to its ``info`` (see :func:`solve_at_force`)."""
         res.info = dict(res.info or {}, target_force=self.force, force_scale=self.scale, solves=self.solves,
                         full_contact=bool(full), normcg_fallbacks=self.fallbacks)
+        if self.cap is not None:
+            # the body keeps the flattening of the state the path ends on
+            self.cap.plastic = res.plastic_displacement if res.plastic_displacement is not None else self.base
         return res
 
 

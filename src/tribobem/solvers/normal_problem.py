@@ -145,7 +145,7 @@ def normal_problem(op, gap, force, approach, interaction, tol, max_iterations, i
 
 
 def normal_result(op, h, p, contact, u, approach, interaction, outcome: IterationOutcome, strict: bool,
-                  t_start: float, info: dict) -> NormalResult:
+                  t_start: float, info: dict, plastic=None) -> NormalResult:
     """Assemble the result of a normal solve, its fields consistent with the final pressure.
 
     Parameters
@@ -176,6 +176,10 @@ def normal_result(op, h, p, contact, u, approach, interaction, outcome: Iteratio
     info : dict
         The solver's entries of ``result.info``, after ``max_penetration`` (m),
         ``interaction`` and ``operator``.
+    plastic : array of bool, optional
+        The nodes at the hardness cap (part of ``contact``; their gap is an overlap taken up
+        plastically): the approach is measured on the other contact nodes, and the result's
+        ``plastic_increment`` is their overlap (m).
 
     Returns
     -------
@@ -190,12 +194,16 @@ def normal_result(op, h, p, contact, u, approach, interaction, outcome: Iteratio
     xp, grid = op.xp, op.grid
     force_control = approach is None
     g = u + h
-    n_c = int(xp.count_nonzero(contact))
+    elastic = contact if plastic is None else contact & ~plastic
+    n_c = int(xp.count_nonzero(elastic))
     if force_control:
-        delta = float(xp.sum(xp.where(contact, g, 0.0))) / n_c if n_c else float("nan")
+        delta = float(xp.sum(xp.where(elastic, g, 0.0))) / n_c if n_c else float("nan")
     else:
         delta = float(approach)
     g -= delta if n_c or not force_control else float(xp.min(g))
+    increment = None
+    if plastic is not None and bool(xp.any(plastic)):
+        increment = op.backend.to_numpy(xp.where(plastic, xp.maximum(-g, 0.0), 0.0))
     gap_field = xp.where(contact, 0.0, g)
     penetration = float(-xp.min(gap_field)) if n_c < g.size else 0.0
     del g
@@ -225,6 +233,8 @@ def normal_result(op, h, p, contact, u, approach, interaction, outcome: Iteratio
         control="force" if force_control else "displacement",
         info={"max_penetration": max(penetration, 0.0), "interaction": repr(interaction), "operator": op.kind,
               **info},
+        plastic=be.to_numpy(plastic) if plastic is not None else None,
+        plastic_increment=increment,
     )
 
 
