@@ -96,6 +96,12 @@ class NormalResult:
         return float(self.residual_history[-1]) if len(self.residual_history) else float("nan")
 
     @property
+    def yielded_area(self) -> float:
+        """Area with a permanent (plastic) displacement so far (m^2; 0 without a hardness cap)."""
+        d = self.plastic_displacement
+        return float(np.count_nonzero(d > 0)) * self.grid.cell_area if d is not None else 0.0
+
+    @property
     def plastic_area(self) -> float:
         """Area of the plastic nodes, p = H (m^2; 0 without a hardness cap)."""
         return float(np.count_nonzero(self.plastic)) * self.grid.cell_area if self.plastic is not None else 0.0
@@ -170,6 +176,11 @@ class NormalResult:
             "residual": self.residual,
             "converged": self.converged,
             "time": self.time,
+            **({} if self.plastic is None else {
+                "plastic_area": self.plastic_area,
+                "yielded_area": self.yielded_area,
+                "max_plastic_displacement": (float(self.plastic_displacement.max())
+                                             if self.plastic_displacement is not None else 0.0)}),
         }
 
 

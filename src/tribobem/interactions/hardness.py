@@ -115,11 +115,6 @@ class HardnessCap:
         info["hardness"] = self.hardness
         return info
 
-    @property
-    def report_rows(self) -> tuple:
-        """The law's report rows and the hardness's."""
-        return tuple(getattr(self.law, "report_rows", ())) + (("hardness", "hardness H (pressure cap)", "pressure"),)
-
 
 def unwrap_cap(interaction):
     """Split an interaction into (law, cap): the law outside the contact and the cap or None.

@@ -10,6 +10,9 @@ variable                      dims            meaning
 ``displacement``              step, x, y      composite normal displacement u (m)
 ``contact``                   step, x, y      1 on contact nodes (g = 0)
 ``adhesive``                  step, x, y      1 in the cohesive zone outside contact
+``plastic``                   step, x, y      with a hardness: 1 on contact nodes at p = H
+``plastic_displacement``      step, x, y      with a hardness: the surface's permanent
+                                              (plastic) displacement so far (m)
 ``initial_gap``               x, y            undeformed gap h (m), minimum 0
 ``roughness_body1/2``         x, y            roughness heights of each body (m)
 ``label``                     step            "loading 3", "preload", "pull-off", ...
@@ -119,6 +122,17 @@ def build_fields(grid, results: Sequence, labels: Sequence[str], *, initial_gap,
         "initial_gap": (("x", "y"), np.asarray(initial_gap, dtype=float),
                         {"units": "m", "long_name": "undeformed gap (minimum 0)"}),
     }
+    if any(getattr(r, "plastic", None) is not None for r in results):
+        # a hardness cap: the plastic nodes of each state and the flattening it has left
+        def plastic_field(r, name, dtype):
+            v = getattr(r, name, None)
+            return np.zeros(grid.shape, dtype) if v is None else np.asarray(v).astype(dtype, copy=False)
+
+        data["plastic"] = (("step", "x", "y"), np.stack([plastic_field(r, "plastic", np.int8) for r in results]),
+                           {"units": "1", "long_name": "plastic nodes (contact at p = hardness)", "flag_values": "0 1"})
+        data["plastic_displacement"] = (
+            ("step", "x", "y"), np.stack([plastic_field(r, "plastic_displacement", float) for r in results]),
+            {"units": "m", "long_name": "permanent (plastic) surface displacement into the body"})
     for name, h in (("roughness_body1", roughness1), ("roughness_body2", roughness2)):
         if h is not None:
             data[name] = (("x", "y"), np.asarray(h, dtype=float),

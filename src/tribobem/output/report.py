@@ -102,6 +102,7 @@ _RUN_SCALARS = (
 _PROBLEM_SCALARS = (
     ("effective_modulus", "effective modulus E*", "pressure"),
     ("radius", "sphere radius R", "length"),
+    ("hardness", "hardness H (pressure cap of the softer surface)", "pressure"),
 )
 # run-level scalars of the tangential kinds (partial_slip, hysteresis)
 _FRICTION_SCALARS = (
@@ -138,6 +139,8 @@ _STEP_COLUMNS = (
     ("repulsive_force", "F\u207a", "force", False),
     ("adhesive_force", "F\u207b", "force", False),
     ("max_pressure", "p max", "pressure", False),
+    ("plastic_area", "A plastic (p = H)", "area", True),
+    ("max_plastic_displacement", "plastic depth max", "length", True),
     ("mean_gap", "mean gap", "length", False),
     ("iterations", "iter.", None, False),
     ("coupling_iterations", "coupl. iter.", None, True),

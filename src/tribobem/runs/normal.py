@@ -136,5 +136,6 @@ KIND = RunKind(
     figures=("load_curve", "two_scale", "maps"),
     columns=NORMAL_COLUMNS,
     results={"pull_off_force": "force", "pull_off_approach": "length", "hysteresis_energy": "energy"},
-    uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",), "two_scale": ALL},
+    uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",), "two_scale": ALL,
+          "body1": ("hardness",), "body2": ("hardness",)},
 )

@@ -37,6 +37,7 @@ from ..data import DATA_PREFIX, topography_path
 from ..elasticity.backend import default_workers
 from ..elasticity.operators import make_operator
 from ..geometry import stats as geostats, read_topography, unit_to_metres, Topography
+from ..interactions.hardness import HardnessCap
 from ..interactions.base import law_summary_info
 from ..interactions.isotherms import isotherm_from_spec
 from ..interactions.registry import LawContext, get_law
@@ -771,6 +772,17 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
         return _build_problem(scenario, base_dir)
 
 
+def _hardness(sc) -> float | None:
+    """The pressure cap (Pa): the smaller hardness of the two bodies, None when neither has one."""
+    values = [b.hardness for b in (sc.body1, sc.body2) if b.hardness is not None]
+    if values and sc.two_scale is not None:
+        key = "body1.hardness" if sc.body1.hardness is not None else "body2.hardness"
+        raise InputError(key, "a hardness cap is not available with [two_scale] yet (each micro window would "
+                              "need its own plastic history); leave [two_scale] out to cap a whole-grid "
+                              "contact, or leave the hardness out")
+    return min(values) if values else None
+
+
 def _build_problem(scenario: Scenario, base_dir) -> Problem:
     sc = scenario
     base = Path(base_dir) if base_dir is not None else Path.cwd()
@@ -825,6 +837,10 @@ def _build_problem(scenario: Scenario, base_dir) -> Problem:
     # the registered law of [adhesion] (interactions/registry.py); None: no stress law
     E_star = pair.effective_modulus if pair is not None else None  # None: both bodies rigid
     interaction = get_law(sc.adhesion.model).build(sc.adhesion, LawContext(grid, E_star))
+    hardness = _hardness(sc)
+    if hardness is not None:
+        # the pressure cap of the softer surface, around the law (interactions/hardness.py)
+        interaction = HardnessCap(hardness, interaction)
     humidity = humidity_setup(sc, shape1, shape2, rough1, rough2)
     windows = _micro_windows(sc, grid, pair, interaction, info, warns, loader) if ts is not None else None
     if windows is not None and windows.info.get("macro_roughness"):

@@ -617,6 +617,9 @@ class BodySpec(Section):
     waviness    -      none      a long-wavelength sinusoid (:class:`WavinessSpec`)
     film        -      dry       capillary kinds: the water film (:class:`FilmSpec`)
     hamaker     J      material  capillary kinds: own Hamaker constant, > 0
+    hardness    Pa     none      indentation hardness H: the contact pressure is capped
+                                 at the softer body's H and the overlap stays as a
+                                 plastic flattening of the surface (elastic bodies only)
     ==========  =====  ========  =====================================================
 
     The initial gap is ``(shape1 + shape2) - (topography1 + topography2)`` with a body's
@@ -634,6 +637,7 @@ class BodySpec(Section):
     waviness: Optional[WavinessSpec] = None
     film: Optional[FilmSpec] = None
     hamaker: Optional[Quantity("energy", gt=0)] = None
+    hardness: Optional[Quantity("pressure", gt=0)] = None
 
     @model_validator(mode="after")
     def _material(self):
@@ -651,6 +655,9 @@ class BodySpec(Section):
                         "E and nu for an elastic body")
         if not self.rigid and self.nu is None:
             _fail("nu", "required with E: Poisson's ratio in (-1, 0.5]")
+        if self.rigid and self.hardness is not None:
+            _fail("hardness", "a rigid body does not yield; give the hardness to the elastic body "
+                              "(the softer surface's hardness caps the contact pressure)")
         return self
 
 

@@ -36,6 +36,7 @@ import numpy as np
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..grid import Grid
 from ..interactions.base import NoInteraction
+from ..interactions.hardness import HardnessCap, unwrap_cap
 from ..interactions.capillary import CapillaryInteraction, ForceSplit
 from ..interactions.dugdale import DugdaleAdhesion
 from ..interactions.menisci import CRITICAL_DISTANCE, Islands, meniscus_islands
@@ -385,6 +386,7 @@ def solve_capillary(operator, gap, *, normal_force: float | None = None, approac
     c = float(contribution)
     if not (0.0 <= c <= 1.0):
         raise InputError("solve_capillary.contribution", f"coefficient must be in [0, 1], got {contribution!r}")
+    adhesion, cap = unwrap_cap(adhesion)  # a hardness cap goes around the capillary law of each step
     if isinstance(adhesion, NoInteraction):
         adhesion = None
     if adhesion is not None and not isinstance(adhesion, DugdaleAdhesion):
@@ -426,13 +428,19 @@ def solve_capillary(operator, gap, *, normal_force: float | None = None, approac
     islands = islands_of(np.maximum(g_est, 0.0), contact_est)
     load = {"force": normal_force} if normal_force is not None else {"approach": approach}
     box = {"warm": warm}
+    base = cap.plastic if cap is not None else None
 
     def step(isl):
         inter = law(isl)
+        # with a hardness cap every outer iteration loads from the plastic state before the
+        # solve (the islands change the load, not the history); the body keeps the last one's
+        capped = HardnessCap(cap.hardness, inter, plastic=base) if cap is not None else inter
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
-            res = solve_normal(operator, h, interaction=inter, tol=tol, max_iterations=max_iterations,
+            res = solve_normal(operator, h, interaction=capped, tol=tol, max_iterations=max_iterations,
                                initial_pressure=box["warm"], method=normal_method, **load)
+        if cap is not None:
+            cap.plastic = capped.plastic
         box["warm"] = res
         return (res, inter), islands_of(res.gap, res.contact)
 

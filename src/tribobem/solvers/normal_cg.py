@@ -274,7 +274,7 @@ def solve_normal_cg(
         raise InputError("solve_normal.force", f"{force!r} N exceeds the hardness times the nominal area "
                          f"({ceiling * grid.area!r} N): no capped contact carries it")
     solver = _NormCG(op, inter, floor, h_eff, p, contact, target, refresh,
-                     fft_preconditioner(op) if precondition else None, u0, ceiling)
+                     fft_preconditioner(op) if precondition else None, u0, ceiling, tol)
     del p, contact, u0
     outcome = run_iterations(solver, tol=tol, max_iterations=max_iterations, stall=stall)
     p = solver.p.reshape(grid.shape)
@@ -406,7 +406,7 @@ class _NormCG(IterativeSolver):
     force control), ``d`` the search direction on the full grid (0 off the contact).
     """
 
-    def __init__(self, op, inter, floor, h_eff, p, contact, target, refresh, pre, u0=None, ceiling=math.inf):
+    def __init__(self, op, inter, floor, h_eff, p, contact, target, refresh, pre, u0=None, ceiling=math.inf, tol=0.0):
         xp = op.xp
         self.u0 = u0  # K p of the start, when the caller knew it (see solve_normal_cg)
         self.scale = 1.0  # the last force-balance scale (_balance)
@@ -423,6 +423,7 @@ class _NormCG(IterativeSolver):
         # nodes at the floor do; None without a cap (no extra grid field)
         self.ceiling = float(ceiling)
         self.pm = None
+        self.tol = tol
         if math.isfinite(self.ceiling):
             self.pm = self.p >= self.ceiling
             xp.minimum(self.p, self.ceiling, out=self.p)
@@ -577,7 +578,9 @@ class _NormCG(IterativeSolver):
         if self.pm is not None:
             # plastic nodes stay plastic while they overlap; one whose gap opens unloads
             # elastically: it enters the contact set at p = H, where the CG lowers it
-            back = self.pm & (g > 0)
+            # (beyond the gap tolerance: a flattened node sits at p = H with g = 0, and round-off
+            # would otherwise move it in and out of the plastic set at every iteration)
+            back = self.pm & (g > self.tol * self.h_scale)
             overlap &= ~self.pm
             overlap |= back
             self.pm &= ~back
@@ -615,6 +618,7 @@ class _NormCG(IterativeSolver):
                 if self.force_control and not self._balance():
                     return ("the contact cannot carry the requested force: the load is beyond "
                             "pull-off (no equilibrium under force control)")
+                idx = self.idx  # (the balance of a capped contact may move nodes to or from the cap)
                 self.u = self.K(self.p)
                 self.exact, self.since_exact = True, 0
                 g = self.h + self.u

@@ -133,6 +133,8 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
     "two_scale_smooth": "full", "two_scale_layer": "full", "two_scale_whole_burl": "full",
     "two_scale_partial_slip": "full", "two_scale_hysteresis": "full", "two_scale_humid": "full",
     "two_scale_pulloff": "full",
+    # materials (seconds)
+    "hardness_hertz": "full", "hardness_sphere": "full", "hardness_rigid_plastic": "full", "hardness_pulloff": "full",
 }
 
 
