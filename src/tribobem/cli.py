@@ -179,6 +179,7 @@ _STEP_COLUMN_LABELS = {
     "max_pressure": ("p_max", "pressure"), "capillary_force": ("F_cap", "force"),
     "solid_solid_force": ("F_ss", "force"), "water_solid_force": ("F_ws", "force"), "wetted_area": ("A_men", "area"),
     "island_count": ("islands", "dimensionless"),
+    "plastic_area": ("A_pl", "area"),
 }
 
 
@@ -193,6 +194,8 @@ def _step_table_columns(summary: dict) -> tuple:
     view = run_view(summary)
     kind = KINDS.get(view.kind)
     keys = kind.step_columns(view.humid) if kind is not None else NORMAL_COLUMNS
+    if any("plastic_area" in s for s in summary.get("steps", [])):
+        keys = tuple(keys) + ("plastic_area",)  # a hardness cap: the plastic nodes of each state
     return tuple((key, *_STEP_COLUMN_LABELS[key]) for key in keys)
 
 

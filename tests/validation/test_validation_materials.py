@@ -8,7 +8,9 @@ from tribobem.validation.materials import CASES
 def test_materials_is_a_physics_with_gated_cases():
     assert "materials" in PHYSICS
     assert set(PHYSICS_CASES["materials"]) == set(CASES) == {"hardness_hertz", "hardness_sphere",
-                                                           "hardness_rigid_plastic", "hardness_pulloff"}
+                                                           "hardness_rigid_plastic", "hardness_pulloff",
+                                                           "subsurface_hertz", "subsurface_sliding",
+                                                           "subsurface_equilibrium"}
     assert all(name in GATE for name in CASES)
 
 

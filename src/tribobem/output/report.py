@@ -32,6 +32,9 @@ _CAPTIONS = {
                 "the centre line when there is no pressure)."),
     "pressure_pulloff": "Pressure map at pull-off.",
     "contact_pulloff": "Contact map at pull-off.",
+    "subsurface": ("Von Mises stress below the surface of each elastic body: the section through its largest value, "
+                   "and the plane maxima against depth (homogeneous half-spaces; residual stresses of plastic states "
+                   "not included)."),
     "topography": "Initial gap and roughness of the bodies.",
     "stick_ratio": ("Stick ratio A_stick / A_c (compressive contact) and tangential displacement \u03b4\u2093 of "
                     "body 2 against F\u2093 / (\u03bc F\u2080\u207a), F\u2080\u207a the repulsive force of each "
@@ -761,6 +764,13 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
                                                       scale=_force_scale(steps))))
         rows.append(("contact area at max force", _fmt(last.get("contact_area"), "area")))
         rows.append(("max pressure", _fmt(max((st.get("max_pressure") or 0) for st in steps), "pressure")))
+    for body, st in ((s.get("subsurface") or {}).get("bodies") or {}).items():
+        # [output] stresses: the largest von Mises stress below the surface, and where
+        rows.append((f"{body} subsurface stress",
+                     f"von Mises up to {_fmt(st['max_von_mises'], 'pressure')} at depth "
+                     f"{_fmt(st['max_von_mises_depth'], 'length')} (state {st['max_von_mises_state']}); max shear "
+                     f"{_fmt(st['max_shear'], 'pressure')} at {_fmt(st['max_shear_depth'], 'length')}; largest tensile "
+                     f"principal stress {_fmt(st['max_tensile_principal'], 'pressure')}"))
     for body, st in (prob.get("roughness") or {}).items():
         if "rms_height" in st:
             rows.append((f"{body} roughness", f"rms {format_quantity(st['rms_height'], 'length')}, rms slope "

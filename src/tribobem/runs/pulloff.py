@@ -131,18 +131,30 @@ def _grid_levels(pb, load, kw, po, bar) -> dict:
     Returns
     -------
     dict
-        ``levels``: per level ``n``, ``dx`` (m), ``pull_off_force`` (N), ``law`` and
-        ``cohesive_zone_cells``; ``change``: the relative change of the pull-off between the last two.
+        ``levels``: per level ``n``, ``dx`` (m), ``pull_off_force`` (N), ``law``,
+        ``cohesive_zone_cells``, ``preload_max_pressure`` (Pa) and, with a hardness,
+        ``preload_plastic_area`` (m^2) and ``preload_max_plastic_displacement`` (m); ``change``: the
+        relative change of the pull-off between the last two.
     """
     from ..interactions.dugdale import SoftenedDugdale
+    from ..interactions.hardness import unwrap_cap
 
-    def entry(p, res, force):
+    def entry(p, po):
+        res = po.state
         w = cohesive_cells(res) if res is not None else math.nan
-        law = "softened" if isinstance(p.interaction, SoftenedDugdale) else type(p.interaction).__name__
-        return {"n": p.grid.nx, "dx": p.grid.dx, "pull_off_force": force, "law": law,
-                "cohesive_zone_cells": w if math.isfinite(w) else None}
+        inner = unwrap_cap(p.interaction)[0]
+        law = "softened" if isinstance(inner, SoftenedDugdale) else type(inner).__name__
+        row = {"n": p.grid.nx, "dx": p.grid.dx, "pull_off_force": po.force, "law": law,
+               "cohesive_zone_cells": w if math.isfinite(w) else None}
+        pre = po.preload_state
+        if pre is not None:
+            row["preload_max_pressure"] = pre.max_pressure
+            if pre.plastic is not None:  # a hardness cap: what the preload flattened on this level
+                row["preload_plastic_area"] = pre.plastic_area
+                row["preload_max_plastic_displacement"] = pre.scalars()["max_plastic_displacement"]
+        return row
 
-    out = [entry(pb, po.state, po.force)]
+    out = [entry(pb, po)]
     for k in range(1, load.grid_levels + 1):
         pk = pb.refined(2**k)
         total = load.steps + load.refine + 1
@@ -151,7 +163,7 @@ def _grid_levels(pb, load, kw, po, bar) -> dict:
             warnings.simplefilter("ignore", ConvergenceWarning)
             pok = pull_off(pk.operator, pk.gap, pk.interaction, preload=load.preload, control=load.control,
                            n_steps=load.steps, refine=load.refine, progress=offset_progress(bar, 0, total), **kw)
-        out.append(entry(pk, pok.state, pok.force))
+        out.append(entry(pk, pok))
     f0, f1 = out[-2]["pull_off_force"], out[-1]["pull_off_force"]
     change = (f1 - f0) / abs(f0) if f0 and math.isfinite(f0) and math.isfinite(f1) else None
     return {"levels": out, "change": change}

@@ -25,12 +25,13 @@ from ..runs import KINDS as RUN_KINDS
 from ..runs import NotImplementedKindError, get_runner
 from ..runs.settings import SolverSettings
 from .build import Problem, build_problem
-from .schema import Scenario, parse_scenario
+from .schema import EXPECTED_KEYS, Scenario, parse_scenario
 from ..output import write_outputs
 from ..output.atomic import staged, pause_hook
 from ..output.checks import cohesive_edge_band, compare_expected, result_warnings
 from ..output.fields import build_fields
 from ..output.summary import versions, write_summary
+from ..output.stresses import add_stress_fields
 
 __all__ = ["RunResult", "NotImplementedKindError", "load_scenario", "read_scenario_file", "run_scenario"]
 
@@ -348,11 +349,6 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         "warnings": warns,
         "created": _dt.datetime.now().isoformat(timespec="seconds"),
     }
-    if sc.expected is not None:
-
-        # The scenario's stated expectation beside the computed value (metadata: no effect on the run).
-        summary["expected"] = compare_expected(summary, sc.expected.model_dump(),
-                                               dimensions=RUN_KINDS[sc.kind].result_keys())
 
     # fields
     keep = sc.output.fields
@@ -395,6 +391,15 @@ def run_scenario(scenario, outdir=None, progress=True, quiet: bool = False, base
         ds = ds.assign_coords({name: ("step", np.asarray([values[i] for i in sel], dtype=float), attrs_v)})
     if "cycle" in ds.dims:
         ds = ds.assign_coords(cycle=np.arange(1, ds.sizes["cycle"] + 1, dtype=np.int32))
+    if sc.output.stresses and pb.pair is not None and results:
+        # the bodies' stresses below the surface for the saved states (output/stresses.py)
+        add_stress_fields(ds, summary, results, tangential or None, pb.grid, pb.pair,
+                          depths=sc.output.stress_depths, summary_steps=indices)
+    if sc.expected is not None:
+        # The scenario's stated expectation beside the computed value (metadata: no effect on the
+        # run; after the stresses, which it may name).
+        summary["expected"] = compare_expected(summary, sc.expected.model_dump(),
+                                               dimensions={**RUN_KINDS[sc.kind].result_keys(), **EXPECTED_KEYS})
 
     files = {}
     out_path = None

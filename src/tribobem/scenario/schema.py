@@ -1101,11 +1101,27 @@ class SolverSpec(Section):
 
 class OutputSpec(Section):
     """``[output]``: which fields go to fields.nc (``all`` steps, the ``last``/representative
-    ones, or ``none``), and whether to draw figures and the HTML report."""
+    ones, or ``none``), and whether to draw figures and the HTML report.
+
+    ``stresses = true``: the subsurface stresses of the saved states in each elastic body
+    (von Mises, maximum shear and principal stresses on planes below the surface, in fields.nc;
+    the largest von Mises stress and its depth per body in summary.json, a figure), on the
+    planes ``stress_depths`` (m, >= 0; default: 24 planes from 0.05 to 2 times the equivalent
+    radius of the largest contact patch)."""
 
     fields: Literal["all", "last", "none"] = "all"
     figures: StrictBool = True
     report: StrictBool = True
+    stresses: StrictBool = False
+    stress_depths: Optional[QuantityList("length", ge=0)] = None
+
+    @model_validator(mode="after")
+    def _stresses(self):
+        if self.stress_depths is not None and not self.stresses:
+            _fail("stress_depths", "planes for the subsurface stresses: set stresses = true as well")
+        if self.stresses and self.fields == "none":
+            _fail("stresses", "the subsurface stresses are fields of the saved states: fields = \"none\" saves none")
+        return self
 
 
 # ----------------------------------------------------------------------------- expected (metadata)
@@ -1113,6 +1129,9 @@ class OutputSpec(Section):
 #: produce (:meth:`tribobem.runs.kind.RunKind.result_keys`: run-level values such as
 #: ``pull_off_force`` and step keys, read at ``expected.step``, default the last step).
 EXPECTED_KEYS: dict[str, str] = {k: d for kind in RUN_KINDS.values() for k, d in kind.result_keys().items()}
+#: ... and those of ``[output] stresses`` (any kind; output/stresses.py)
+EXPECTED_KEYS.update({f"max_von_mises{s}_body{b}": d for b in (1, 2)
+                      for s, d in (("", "pressure"), ("_depth", "length"))})
 #: Names of the result checks an ``expected.warnings`` list may name: those of
 #: :data:`tribobem.output.checks.CHECKS` (repeated here so that parsing a scenario does not import
 #: the output package; a test keeps the two equal).
@@ -1222,6 +1241,10 @@ class Scenario(Section):
             _fail("solver.kernel", f"{self.solver.kernel!r} is for periodic grids; a free-boundary grid always "
                   "uses the influence coefficients of uniform pressure on its cells (leave kernel out)")
         for key in (self.expected.values if self.expected is not None else ()):
+            if key.startswith("max_von_mises"):
+                if not self.output.stresses:
+                    _fail(f"expected.{key}", "the subsurface stresses are computed with [output] stresses = true")
+                continue
             if key not in kind.result_keys():
                 by = [k for k, kd in RUN_KINDS.items() if key in kd.result_keys()]
                 _fail(f"expected.{key}", f"kind = {self.kind!r} does not produce it (produced by kind "

@@ -22,7 +22,8 @@ in the order they run):
     ``two_scale_smooth``, ``two_scale_layer``, ``two_scale_whole_burl``, ``two_scale_partial_slip``,
     ``two_scale_hysteresis``, ``two_scale_humid``.
 :mod:`~tribobem.validation.materials`
-    ``hardness_hertz``, ``hardness_sphere``, ``hardness_rigid_plastic``, ``hardness_pulloff``.
+    ``hardness_hertz``, ``hardness_sphere``, ``hardness_rigid_plastic``, ``hardness_pulloff``,
+    ``subsurface_hertz``, ``subsurface_sliding``, ``subsurface_equilibrium``.
 
 Three tiers: ``quick`` (small grids), ``ci`` (the gating tier of CI: the cases that protect
 published numbers at a resolution that still discriminates and fits CI's time budget per
@@ -74,7 +75,7 @@ PHYSICS = (
                        # humid_loop_energy (partial_slip and hysteresis with [humidity])
     "burl",        # rounded_punch, flat_punch, burl_stiffness, kendall, texture_cell (burls and textures)
     "two_scale",   # two_scale_smooth, _layer, _whole_burl, _partial_slip, _hysteresis, _humid
-    "materials",   # hardness_hertz, hardness_sphere, hardness_rigid_plastic, hardness_pulloff
+    "materials",   # hardness_hertz, _sphere, _rigid_plastic, _pulloff; subsurface_hertz, _sliding, _equilibrium
 )
 
 

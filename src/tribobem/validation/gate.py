@@ -135,6 +135,7 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
     "two_scale_pulloff": "full",
     # materials (seconds)
     "hardness_hertz": "full", "hardness_sphere": "full", "hardness_rigid_plastic": "full", "hardness_pulloff": "full",
+    "subsurface_hertz": "full", "subsurface_sliding": "full", "subsurface_equilibrium": "full",
 }
 
 

@@ -1,4 +1,4 @@
-"""Validation of the material models: the hardness cap with plastic history.
+"""Validation of the material models: the hardness cap with plastic history, subsurface stresses.
 
 Cases (``tribobem validate --physics materials``):
 
@@ -16,6 +16,15 @@ Cases (``tribobem validate --physics materials``):
     A Dugdale sphere (Maugis lambda ~ 0.8) preloaded to ten pull-offs with H = p0 / 2 and
     unloaded: the flattened top adheres more than the elastic sphere (at least 1.5 times; the
     elastic pull-off itself against Maugis-Dugdale's).
+``subsurface_hertz``
+    The stresses below the solved Hertz contact (nu = 0.3) against Huber's closed form: the
+    largest shear stress 0.31 p0 at 0.48 a on the axis, and the whole field on two planes.
+``subsurface_sliding``
+    A sliding Hertz line contact (mu = 0.3, plane strain on a long periodic strip) against
+    McEwen's closed form.
+``subsurface_equilibrium``
+    div sigma = 0 inside, and the plane integrals of sigma_zz and sigma_xz against the load, for
+    a rough periodic traction with shear.
 """
 
 from __future__ import annotations
@@ -28,7 +37,9 @@ import numpy as np
 
 from ..analytic.adhesion import maugis_dugdale_pull_off_force
 from ..analytic.capped_sphere import capped_sphere
+from ..analytic.subsurface import huber_stresses, mcewen_stresses
 from ..elasticity import free_boundary_operator, make_operator
+from ..elasticity.subsurface import subsurface_stress
 from ..geometry.rough import self_affine_surface
 from ..grid import Grid
 from ..interactions.dugdale import build_dugdale
@@ -134,10 +145,88 @@ def _pulloff_rows(quick: bool) -> list[ValidationRow]:
     ]
 
 
+def _subsurface_hertz_rows(quick: bool) -> list[ValidationRow]:
+    es, a, p0 = _hertz_scales()
+    n = 128 if quick else 256
+    grid, h = _sphere_problem(n, a, span=4.0)
+    res = _solve(free_boundary_operator(grid, _PAIR), h, force=_F, tol=1e-10)
+    nu = _PAIR.body1.nu
+    z = np.linspace(0.3, 0.7, 41) * a
+    st = subsurface_stress(grid, res.pressure, depths=z, nu=nu)
+    c = n // 2
+    tau = st.max_shear()[:, c - 1:c + 1, c - 1:c + 1].mean(axis=(1, 2))
+    k = int(np.argmax(tau))
+    case = f"subsurface_hertz nu={nu:g} {n}^2"
+    rows = [_row(case, "largest shear stress on the axis / p0 (Huber: 0.31)", 0.3100, tau[k] / p0, 0.01),
+            _row(case, "its depth / a (Huber: 0.48)", 0.48, z[k] / a, 0.03)]
+    x = (np.arange(n) - n / 2 + 0.5) * grid.dx
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    R = np.hypot(X, Y)
+    for zr in (0.48, 1.0):
+        s1 = subsurface_stress(grid, res.pressure, depths=[zr * a], nu=nu)
+        hb = huber_stresses(R, zr * a, a, p0, nu)
+        cs, sn = X / R, Y / R
+        ref = {"xx": hb["rr"] * cs ** 2 + hb["tt"] * sn ** 2, "zz": hb["zz"], "xz": hb["rz"] * cs}
+        err = max(float(np.abs(s1.component(q)[0] - v).max()) for q, v in ref.items())
+        rows.append(_row(case, f"largest deviation from Huber's field at z = {zr:g} a (xx, zz, xz) / p0", 0.0,
+                         err / p0, 0.01, scale=1.0))
+    return rows
+
+
+def _subsurface_sliding_rows(quick: bool) -> list[ValidationRow]:
+    nx, ny, L, mu, nu = 8192, 4, 128.0, 0.3, 0.3
+    grid = Grid(nx, ny, L, L * ny / nx, periodic=True)
+    x = (np.arange(nx) - nx / 2 + 0.5) * grid.dx
+    P = np.sqrt(np.clip(1 - x ** 2, 0, None))[:, None] * np.ones((1, ny))
+    near = np.abs(x) < 2
+    rows = []
+    for z in (0.3, 0.78):
+        st = subsurface_stress(grid, P, np.stack([mu * P, 0 * P]), depths=[z], nu=nu)
+        m = mcewen_stresses(x, z, 1.0, 1.0, mu, nu)
+        for q, tol in (("zz", 1e-3), ("xz", 1e-3), ("xx", 5e-3)):
+            err = float(np.abs(st.component(q)[0][near, 0] - m[q][near]).max())
+            rows.append(_row(f"subsurface_sliding mu={mu:g} z={z:g} a", f"sigma_{q}: largest deviation from McEwen / p0",
+                             0.0, err, tol, scale=1.0))
+    return rows
+
+
+def _subsurface_equilibrium_rows(quick: bool) -> list[ValidationRow]:
+    n = 128
+    grid = Grid(n, n, 1.0, 1.0, periodic=True)
+    s = self_affine_surface(grid, 0.8, rms_slope=1.0, short_cutoff=8 / n, seed=5)
+    res = _solve(make_operator(grid, _PAIR), s.max() - s, force=0.02 * _PAIR.effective_modulus, tol=1e-10)
+    p = res.pressure
+    q = np.stack([0.3 * p, -0.1 * p])
+    h = 1e-4
+    z0 = 0.05
+    st = subsurface_stress(grid, p, q, depths=[z0 - h, z0, z0 + h], nu=0.3)
+    kx = 2 * np.pi * np.fft.fftfreq(n, grid.dx)[:, None]
+    ky = 2 * np.pi * np.fft.fftfreq(n, grid.dy)[None, :]
+
+    def d(f, k):
+        return np.fft.ifft2(1j * k * np.fft.fft2(f)).real
+
+    C = {c: st.component(c) for c in ("xx", "yy", "zz", "xy", "xz", "yz")}
+    res_x = d(C["xx"][1], kx) + d(C["xy"][1], ky) + (C["xz"][2] - C["xz"][0]) / (2 * h)
+    res_z = d(C["xz"][1], kx) + d(C["yz"][1], ky) + (C["zz"][2] - C["zz"][0]) / (2 * h)
+    scale = float(np.abs(p).max()) / z0
+    case = f"subsurface_equilibrium rough periodic {n}^2"
+    return [
+        _row(case, "|div sigma|_x / (p_max / z)", 0.0, float(np.abs(res_x).max()) / scale, 1e-4, scale=1.0),
+        _row(case, "|div sigma|_z / (p_max / z)", 0.0, float(np.abs(res_z).max()) / scale, 1e-4, scale=1.0),
+        _row(case, "plane integral of sigma_zz against -F", -res.force, float(C["zz"][1].sum()) * grid.cell_area, 1e-10),
+        _row(case, "plane integral of sigma_xz against -Q_x", -float(q[0].sum()) * grid.cell_area,
+             float(C["xz"][1].sum()) * grid.cell_area, 1e-10),
+    ]
+
+
 #: The cases of this module, in the order they run: name -> ``rows(quick)``.
 CASES: dict[str, Callable[[bool], list[ValidationRow]]] = {
     "hardness_hertz": _hertz_rows,
     "hardness_sphere": _sphere_rows,
     "hardness_rigid_plastic": _rigid_plastic_rows,
     "hardness_pulloff": _pulloff_rows,
+    "subsurface_hertz": _subsurface_hertz_rows,
+    "subsurface_sliding": _subsurface_sliding_rows,
+    "subsurface_equilibrium": _subsurface_equilibrium_rows,
 }

@@ -186,3 +186,55 @@ def profile_figure(ds, step: int, path) -> Path:
     where = "centre line" if through == "centre line" else f"row through the {through}"
     ax.set_title(f"{step_title(ds, step)}\nalong y = {y[iy] / lf:.3g} {ll} ({where})", fontsize=10)
     return save_png(fig, path)
+
+
+def subsurface_figure(ds, path) -> Path | None:
+    """The von Mises stress below the surface: per elastic body, a section through the largest
+    value (x against depth at its y, for its state) and the depth profile of the plane maxima
+    and of the maximum shear stress.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run, with ``von_mises_body1/2`` (``[output] stresses``).
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path or None
+        The written PNG file; None without stress fields.
+    """
+    bodies = [b for b in ("body1", "body2") if f"von_mises_{b}" in ds]
+    if not bodies:
+        return None
+    z = np.asarray(ds["depth"].values, dtype=float)
+    lf, ll = display_unit(np.abs(np.asarray(ds["x"].values)) * 2, "length")
+    zf, zl = display_unit(z, "length")
+    fig = new_figure(11.0, 4.0 * len(bodies))
+    axes = fig.subplots(len(bodies), 2, squeeze=False)
+    for row, b in zip(axes, bodies):
+        vm = np.asarray(ds[f"von_mises_{b}"].values, dtype=float)
+        ts = np.asarray(ds[f"max_shear_{b}"].values, dtype=float)
+        s, k, i, j = np.unravel_index(int(np.argmax(vm)), vm.shape)
+        sf, sl = display_unit(vm[s], "pressure")
+        x = np.asarray(ds["x"].values, dtype=float)
+        sec = vm[s, :, :, j]
+        ax = row[0]
+        im = ax.pcolormesh(x / lf, z / zf, sec / sf, cmap="inferno", shading="nearest")
+        ax.invert_yaxis()
+        ax.plot([x[i] / lf], [z[k] / zf], marker="+", color="c", markersize=12, mew=2)
+        ax.set_xlabel(f"x ({ll})")
+        ax.set_ylabel(f"depth ({zl})")
+        yv = float(np.asarray(ds["y"].values)[j])
+        ax.set_title(f"{b}: von Mises, section y = {format_value(yv / lf, 3)} {ll} ({step_title(ds, s)})")
+        fig.colorbar(im, ax=ax, shrink=0.85, label=f"von Mises ({sl})")
+        ax = row[1]
+        ax.plot(vm[s].max(axis=(1, 2)) / sf, z / zf, label="von Mises, plane maximum")
+        ax.plot(ts[s].max(axis=(1, 2)) / sf, z / zf, label="max shear (s1 - s3)/2, plane maximum")
+        ax.invert_yaxis()
+        ax.set_xlabel(f"stress ({sl})")
+        ax.set_ylabel(f"depth ({zl})")
+        ax.set_title(f"{b}: largest {format_value(vm[s, k, i, j] / sf, 3)} {sl} at {format_value(z[k] / zf, 3)} {zl}")
+        ax.legend(loc="lower right")
+    return save_png(fig, path)
