@@ -242,8 +242,9 @@ def test_validate_ci_tier_by_physics(fake_validation, monkeypatch):
 
 
 #: Examples whose run takes minutes: their CLI run is a slow test (test_examples.SLOW holds their
-#: expectation checks).
-SLOW_EXAMPLES = {"pulloff_afm_park_levels"}
+#: expectation checks); and the materials examples, whose CLI path is the other examples' (their
+#: expectations are checked by test_examples in the default run: the default run's time budget).
+SLOW_EXAMPLES = {"pulloff_afm_park_levels", "normal_yielding_rough", "normal_coated_paper_c", "stresses_paper_d_ball"}
 
 
 @pytest.mark.parametrize("example", [pytest.param(e, marks=[pytest.mark.slow] if e.stem in SLOW_EXAMPLES else [])

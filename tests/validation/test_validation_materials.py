@@ -10,7 +10,8 @@ def test_materials_is_a_physics_with_gated_cases():
     assert set(PHYSICS_CASES["materials"]) == set(CASES) == {"hardness_hertz", "hardness_sphere",
                                                            "hardness_rigid_plastic", "hardness_pulloff",
                                                            "subsurface_hertz", "subsurface_sliding",
-                                                           "subsurface_equilibrium"}
+                                                           "subsurface_equilibrium", "layer_limits", "layer_fem",
+                                                           "layer_sphere"}
     assert all(name in GATE for name in CASES)
 
 

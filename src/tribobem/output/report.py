@@ -32,6 +32,8 @@ _CAPTIONS = {
                 "the centre line when there is no pressure)."),
     "pressure_pulloff": "Pressure map at pull-off.",
     "contact_pulloff": "Contact map at pull-off.",
+    "plastic": ("Permanent (plastic) surface displacement after the most loaded state (a hardness cap): the "
+                "flattening the later states see; outlined, the nodes at p = H in that state."),
     "subsurface": ("Von Mises stress below the surface of each elastic body: the section through its largest value, "
                    "and the plane maxima against depth (homogeneous half-spaces; residual stresses of plastic states "
                    "not included)."),

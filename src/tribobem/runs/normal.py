@@ -137,5 +137,5 @@ KIND = RunKind(
     columns=NORMAL_COLUMNS,
     results={"pull_off_force": "force", "pull_off_approach": "length", "hysteresis_energy": "energy"},
     uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",), "two_scale": ALL,
-          "body1": ("hardness",), "body2": ("hardness",)},
+          "body1": ("hardness", "layer"), "body2": ("hardness", "layer")},
 )

@@ -260,8 +260,8 @@ KIND = RunKind(
              **TANGENTIAL_STEPS, **CAPILLARY_STEPS},
     uses={"load": ("force", "forces"),
           "friction": ("coefficient", "tangential_forces", "tangential_displacements", "direction", "slip"),
-          "humidity": ALL, "body1": ("film", "hamaker", "hardness"),
-          "body2": ("film", "hamaker", "hardness"), "solver": ("method",),
+          "humidity": ALL, "body1": ("film", "hamaker", "hardness", "layer"),
+          "body2": ("film", "hamaker", "hardness", "layer"), "solver": ("method",),
           "two_scale": ALL},
     hints={"friction.path": "a partial_slip ramp is friction.tangential_forces or "
                             "friction.tangential_displacements",

@@ -242,8 +242,8 @@ KIND = RunKind(
     columns=NORMAL_COLUMNS, humid_columns=CAPILLARY_COLUMNS,
     results={"pull_off_force": "force", "pull_off_approach": "length", "preload": "force",
              "hysteresis_energy": "energy", **CAPILLARY_STEPS},
-    uses={"load": _DRY_LOAD, "humidity": ALL, "body1": ("film", "hamaker", "hardness"),
-          "body2": ("film", "hamaker", "hardness"),
+    uses={"load": _DRY_LOAD, "humidity": ALL, "body1": ("film", "hamaker", "hardness", "layer"),
+          "body2": ("film", "hamaker", "hardness", "layer"),
           "solver": ("method",), "two_scale": ALL},
     hints={"friction": "a pull-off is frictionless; leave [friction] out",
            **{f"load.{k}": "a pull-off unloads from load.preload (a compressive force; left out: from the "

@@ -35,6 +35,7 @@ from .schema import BodySpec, Scenario
 from .. import geometry as geo
 from ..data import DATA_PREFIX, topography_path
 from ..elasticity.backend import default_workers
+from ..elasticity.bodies import CoatedHalfSpace
 from ..elasticity.operators import make_operator
 from ..geometry import stats as geostats, read_topography, unit_to_metres, Topography
 from ..interactions.hardness import HardnessCap
@@ -772,6 +773,20 @@ def build_problem(scenario: Scenario, base_dir=None) -> Problem:
         return _build_problem(scenario, base_dir)
 
 
+def _body_model(sc):
+    """The pair's body model: a coated body (``[bodyN] layer``), else None (two half-spaces)."""
+    coated = [(i, b.layer) for i, b in ((1, sc.body1), (2, sc.body2)) if b.layer is not None]
+    if not coated:
+        return None
+    if len(coated) > 1:
+        raise InputError("body2.layer", "only one of the two bodies may carry a layer")
+    if sc.two_scale is not None:
+        raise InputError(f"body{coated[0][0]}.layer", "a coated body is not available with [two_scale] yet; leave "
+                         "[two_scale] out (whole-grid contact), or the layer out")
+    i, layer = coated[0]
+    return CoatedHalfSpace(i, float(layer.E), float(layer.nu), float(layer.thickness))
+
+
 def _hardness(sc) -> float | None:
     """The pressure cap (Pa): the smaller hardness of the two bodies, None when neither has one."""
     values = [b.hardness for b in (sc.body1, sc.body2) if b.hardness is not None]
@@ -790,7 +805,8 @@ def _build_problem(scenario: Scenario, base_dir) -> Problem:
     grid = _grid(sc, loader)
     grid.check_memory()
     both_rigid = sc.body1.rigid and sc.body2.rigid  # only a capillary run at an approach (schema)
-    pair = None if both_rigid else ContactPair(body_material(sc.body1, "body1"), body_material(sc.body2, "body2"))
+    pair = None if both_rigid else ContactPair(body_material(sc.body1, "body1"), body_material(sc.body2, "body2"),
+                                               model=_body_model(sc))
 
     info: dict = {}
     warns: list = []

@@ -597,6 +597,24 @@ class FilmSpec(Section):
         return self
 
 
+class LayerSpec(Section):
+    """``[bodyN] layer``: an elastic layer perfectly bonded to the body (a coating); the body's
+    own ``E``, ``nu`` are the substrate's.
+
+    ==========  =====  ========  =====================================================
+    key         unit   default   meaning
+    ==========  =====  ========  =====================================================
+    E           Pa     required  the layer's Young's modulus, > 0
+    nu          -      required  the layer's Poisson's ratio in (-1, 0.5)
+    thickness   m      required  the layer's thickness, > 0
+    ==========  =====  ========  =====================================================
+    """
+
+    E: Quantity("modulus", gt=0)
+    nu: Number(gt=-1, lt=0.5)
+    thickness: Quantity("length", gt=0)
+
+
 class BodySpec(Section):
     """``[body1]`` / ``[body2]``: ``E`` and ``nu`` (or ``rigid = true``), ``roughness``, ``shape``,
     ``texture``, ``waviness``; for the capillary kinds ``film`` (:class:`FilmSpec`; absent: a dry
@@ -620,6 +638,8 @@ class BodySpec(Section):
     hardness    Pa     none      indentation hardness H: the contact pressure is capped
                                  at the softer body's H and the overlap stays as a
                                  plastic flattening of the surface (elastic bodies only)
+    layer       -      none      a bonded elastic coating (:class:`LayerSpec`); E, nu
+                                 are then the substrate's
     ==========  =====  ========  =====================================================
 
     The initial gap is ``(shape1 + shape2) - (topography1 + topography2)`` with a body's
@@ -638,6 +658,7 @@ class BodySpec(Section):
     film: Optional[FilmSpec] = None
     hamaker: Optional[Quantity("energy", gt=0)] = None
     hardness: Optional[Quantity("pressure", gt=0)] = None
+    layer: Optional[LayerSpec] = None
 
     @model_validator(mode="after")
     def _material(self):
@@ -655,6 +676,9 @@ class BodySpec(Section):
                         "E and nu for an elastic body")
         if not self.rigid and self.nu is None:
             _fail("nu", "required with E: Poisson's ratio in (-1, 0.5]")
+        if self.rigid and self.layer is not None:
+            _fail("layer", "a coating on a rigid body is not modelled (its substrate would not deform); give the "
+                           "coated body its substrate's E and nu, or make the layer the body")
         if self.rigid and self.hardness is not None:
             _fail("hardness", "a rigid body does not yield; give the hardness to the elastic body "
                               "(the softer surface's hardness caps the contact pressure)")

@@ -136,6 +136,7 @@ GATE: dict[str, str | Callable[[], list[ValidationRow]]] = {
     # materials (seconds)
     "hardness_hertz": "full", "hardness_sphere": "full", "hardness_rigid_plastic": "full", "hardness_pulloff": "full",
     "subsurface_hertz": "full", "subsurface_sliding": "full", "subsurface_equilibrium": "full",
+    "layer_limits": "full", "layer_fem": "full", "layer_sphere": "full",
 }
 
 

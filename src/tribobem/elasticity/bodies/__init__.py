@@ -13,12 +13,13 @@ from __future__ import annotations
 from ...errors import InputError
 from .base import BodyModel
 from .halfspace import HalfSpace, halfspace_self_compliance
+from .layered import CoatedHalfSpace
 
-__all__ = ["BODY_MODELS", "BodyModel", "HalfSpace", "body_model", "body_model_of", "halfspace_self_compliance",
+__all__ = ["BODY_MODELS", "BodyModel", "CoatedHalfSpace", "HalfSpace", "body_model", "body_model_of", "halfspace_self_compliance",
            "register_body_model", "unregister_body_model", "DEFAULT_BODY_MODEL"]
 
 #: The registered body models, by name.
-BODY_MODELS: dict[str, type[BodyModel]] = {"halfspace": HalfSpace}
+BODY_MODELS: dict[str, type[BodyModel]] = {"halfspace": HalfSpace, "coated": CoatedHalfSpace}
 
 #: The model of a pair that names none.
 DEFAULT_BODY_MODEL = HalfSpace()

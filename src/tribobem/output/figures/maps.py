@@ -238,3 +238,42 @@ def subsurface_figure(ds, path) -> Path | None:
         ax.set_title(f"{b}: largest {format_value(vm[s, k, i, j] / sf, 3)} {sl} at {format_value(z[k] / zf, 3)} {zl}")
         ax.legend(loc="lower right")
     return save_png(fig, path)
+
+
+def plastic_figure(ds, step: int, path) -> Path | None:
+    """The permanent (plastic) surface displacement after state ``step``, with the plastic
+    nodes of that state outlined (a hardness cap).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The fields of the run (with ``plastic_displacement`` and ``plastic``).
+    step : int
+        Position along the dataset's ``step`` dimension.
+    path : path-like
+        The PNG file to write (atomically).
+
+    Returns
+    -------
+    Path or None
+        The written PNG file; None when nothing yielded.
+    """
+    if "plastic_displacement" not in ds:
+        return None
+    d = np.asarray(ds["plastic_displacement"].values[step], dtype=float)
+    if not np.any(d > 0):
+        return None
+    df, dl = display_unit(d, "length")
+    lf, ll = display_unit(np.abs(np.asarray(ds["x"].values)) * 2, "length")
+    fig = new_figure()
+    ax = fig.add_subplot()
+    im = ax.imshow(d.T / df, origin="lower", extent=map_extent(ds, lf), cmap="viridis", interpolation="nearest")
+    fig.colorbar(im, ax=ax, shrink=0.85, label=f"plastic displacement ({dl})")
+    mask = np.asarray(ds["plastic"].values[step]).astype(float)
+    if mask.any():
+        x = np.asarray(ds["x"].values) / lf
+        y = np.asarray(ds["y"].values) / lf
+        ax.contour(x, y, mask.T, levels=[0.5], colors="w", linewidths=0.8)
+    map_axes(ax, ds, lf, ll)
+    ax.set_title(f"flattening so far ({step_title(ds, step)}); white: p = H now")
+    return save_png(fig, path)

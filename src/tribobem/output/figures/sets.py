@@ -18,7 +18,7 @@ from ..humid import humid_friction_figures, rh_summary
 from .humid_maps import humid_stickslip_figure, humid_stickslip_steps
 from .hysteresis import hysteresis_figures, loop_map_steps, loop_stickslip_figure
 from .load_curve import force_curve_figure
-from .maps import contact_figure, pressure_figure, profile_figure, subsurface_figure, topography_figure
+from .maps import contact_figure, plastic_figure, pressure_figure, profile_figure, subsurface_figure, topography_figure
 from .stickslip import _rows_with, _step_name, _step_number, stick_normal_figure, stick_ratio_figure
 from .stickslip import stickslip_figure, stickslip_steps
 from .two_scale import interface_law_figure, slip_law_figure
@@ -31,7 +31,7 @@ from .two_scale import interface_law_figure, slip_law_figure
 FIGURE_NAMES = ("interface_law", "hysteresis_loop", "humid_friction_rh", "humid_friction_curve", "capillary_forces", "pulloff_rh",
                 "force_curve", "stick_ratio", "stick_normal",
                 "stickslip", "lateral_stiffness", "dissipation", "meniscus", "films", "pressure", "contact", "profile",
-                "pressure_pulloff", "contact_pulloff", "subsurface", "topography")
+                "pressure_pulloff", "contact_pulloff", "plastic", "subsurface", "topography")
 
 
 def _constant_normal_force(summary: dict) -> bool:
@@ -229,6 +229,12 @@ def map_figures(ds, summary: dict, outdir) -> dict:
     sub = subsurface_figure(ds, outdir / "subsurface.png")  # with [output] stresses
     if sub is not None:
         out["subsurface"] = sub
+    if "plastic_displacement" in ds and ds.sizes.get("step", 0):
+        # a hardness cap: the flattening after the most loaded state
+        f = np.asarray(ds["normal_force"].values, dtype=float)
+        pl = plastic_figure(ds, int(np.nanargmax(f)) if np.any(np.isfinite(f)) else 0, outdir / "plastic.png")
+        if pl is not None:
+            out["plastic"] = pl
     capillary = run_view(summary).rh_steps  # the maps of a humid run: at the peak capillary force
     step = representative_step(ds)
     if capillary and step is not None and capillary_step(ds, summary) is not None:
