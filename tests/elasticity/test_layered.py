@@ -84,3 +84,33 @@ def test_finite_elements_agree():
     f = layer_factors(np.array([1.0]), SIO2.nu, SI.nu, SI.shear_modulus / Gl)
     c = fem_layer_compliance(1.0, 1.0, (SIO2.E, SIO2.nu), (SI.E, SI.nu), "normal")
     assert c == pytest.approx(f["zz"][0] / Gl, rel=0.01)  # measured 0.15 %
+
+
+def _partial_slip(layer, periodic):
+    import tomllib
+    import warnings
+    from pathlib import Path
+
+    from tribobem.scenario import parse_scenario, run_scenario
+
+    ex = Path(__file__).resolve().parents[2] / "examples"
+    d = tomllib.loads((ex / "partial_slip_auto.toml").read_text())
+    d.pop("expected", None)
+    d["grid"]["periodic"] = periodic
+    if layer:
+        d["body1"]["layer"] = layer
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return run_scenario(parse_scenario(d), outdir=None, progress=False, base_dir=ex)
+
+
+def test_tangential_kinds_on_a_coated_periodic_cell():
+    bare = _partial_slip(None, True)
+    # a layer of the substrate's own material is the bare body
+    same = _partial_slip({"E": "130 GPa", "nu": 0.3, "thickness": "20 nm"}, True)
+    assert same.summary["static_friction_ratio"] == pytest.approx(bare.summary["static_friction_ratio"], rel=1e-9)
+    soft = _partial_slip({"E": "64 GPa", "nu": 0.17, "thickness": "20 nm"}, True)
+    assert soft.summary["converged"]
+    assert soft.summary["static_friction_ratio"] != pytest.approx(bare.summary["static_friction_ratio"], rel=1e-3)
+    with pytest.raises(InputError, match="tangential kinds need a periodic grid"):
+        _partial_slip({"E": "64 GPa", "nu": 0.17, "thickness": "20 nm"}, False)

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize, special
 
-__all__ = ["CappedSphere", "capped_sphere", "disc_displacement"]
+__all__ = ["CappedSphere", "capped_sphere", "coated_ring_influence", "disc_displacement"]
 
 
 def disc_displacement(r, b: float, effective_modulus: float):
@@ -93,7 +93,8 @@ def _influence(edges: np.ndarray, effective_modulus: float) -> np.ndarray:
 
 
 def capped_sphere(radius: float, effective_modulus: float, hardness: float, *, force: float | None = None,
-                  approach: float | None = None, outer: float | None = None, rings: int = 400) -> CappedSphere:
+                  approach: float | None = None, outer: float | None = None, rings: int = 400,
+                  influence=None) -> CappedSphere:
     """The capped sphere under a force or an approach.
 
     Parameters
@@ -111,6 +112,11 @@ def capped_sphere(radius: float, effective_modulus: float, hardness: float, *, f
         contact sqrt(F / (pi H)) or of Hertz's contact, whichever is larger.
     rings : int
         Number of rings.
+    influence : callable, optional
+        ``influence(edges) -> A`` with ``A[i, j]`` the displacement (m/Pa) at the midpoint of
+        ring i of a unit pressure on ring j (edges in m); default: the homogeneous half-space of
+        ``effective_modulus`` (:func:`disc_displacement`).  A coated flat:
+        :func:`coated_ring_influence`.
     """
     if (force is None) == (approach is None):
         raise ValueError("give exactly one of force and approach")
@@ -120,7 +126,10 @@ def capped_sphere(radius: float, effective_modulus: float, hardness: float, *, f
         a_p = math.sqrt(f / (math.pi * hardness)) if math.isfinite(hardness) else 0.0
         outer = 1.6 * max(a_h, a_p, math.sqrt(2.0 * radius * approach) if approach is not None else 0.0)
     edges = np.linspace(0.0, outer, rings + 1)
-    r, A = _influence(edges, effective_modulus)
+    if influence is None:
+        r, A = _influence(edges, effective_modulus)
+    else:
+        r, A = 0.5 * (edges[1:] + edges[:-1]), np.asarray(influence(edges), dtype=float)
     w = math.pi * (edges[1:] ** 2 - edges[:-1] ** 2)
     Q = w[:, None] * A
     Q = 0.5 * (Q + Q.T)  # symmetric up to round-off (reciprocity)
@@ -163,3 +172,33 @@ def capped_sphere(radius: float, effective_modulus: float, hardness: float, *, f
     a = float(edges[1:][loaded].max()) if loaded.any() else 0.0
     c = float(edges[1:][at_cap].max()) if at_cap.any() else 0.0
     return CappedSphere(r, p, float(w @ p), float(delta), a, c)
+
+
+def coated_ring_influence(compliance, reference_modulus: float, length: float, q_max_factor: float = 40.0):
+    """Ring influence of a compliance C(q) (m/Pa, a function of the wavenumber q in rad/m), for
+    :func:`capped_sphere`: the half-space of ``reference_modulus`` (E*, closed form) plus the
+    Hankel transform of the difference, u(r) = int_0^inf [C(q) - 2 / (E* q)] (b2 J1(q b2) - b1 J1(q b1))
+    J0(q r) dq, by the trapezoidal rule up to ``q_max_factor / length`` (the difference decays as
+    exp(-2 q t) for a layer of thickness t = ``length``).
+
+    Returns
+    -------
+    callable
+        ``influence(edges) -> A``.
+    """
+    from scipy.special import j0, j1
+
+    def influence(edges):
+        edges = np.asarray(edges, dtype=float)
+        r, A = _influence(edges, reference_modulus)
+        span = float(edges[-1])
+        q = np.linspace(0.0, q_max_factor / length, 1 + int(40 * q_max_factor * span / length) + 2000)[1:]
+        w = np.full(q.size, q[1] - q[0])
+        dC = np.asarray(compliance(q), dtype=float) - 2.0 / (reference_modulus * q)
+        Jr = j0(np.outer(r, q))                       # (rings, nq)
+        disc = edges[1:, None] * j1(np.outer(edges[1:], q))
+        disc[1:] -= edges[1:-1, None] * j1(np.outer(edges[1:-1], q))
+        A = A + (Jr * (dC * w)[None, :]) @ disc.T
+        return A
+
+    return influence

@@ -34,7 +34,9 @@ Cases (``tribobem validate --physics materials``):
     plane-strain finite-element model (scikit-fem, :mod:`tribobem.validation.layer_fem`).
 ``layer_sphere``
     A sphere on a coated flat: the free-boundary grid (the kernel's Hankel transform) against a
-    periodic cell four times wider (the kernel's symbol): contact radius and largest pressure.
+    periodic cell four times wider (the kernel's symbol): contact radius and largest pressure;
+    and its approach and largest pressure against an axisymmetric ring solution of the same
+    kernel (no grid).
 """
 
 from __future__ import annotations
@@ -46,7 +48,7 @@ from typing import Callable
 import numpy as np
 
 from ..analytic.adhesion import maugis_dugdale_pull_off_force
-from ..analytic.capped_sphere import capped_sphere
+from ..analytic.capped_sphere import capped_sphere, coated_ring_influence
 from ..analytic.subsurface import huber_stresses, mcewen_stresses
 from ..elasticity import free_boundary_operator, make_operator
 from ..elasticity.subsurface import subsurface_stress
@@ -292,11 +294,27 @@ def _layer_sphere_rows(quick: bool) -> list[ValidationRow]:
     X, Y = np.meshgrid(xp, xp, indexing="ij")
     rp = _solve(periodic_operator(per, pair), (X ** 2 + Y ** 2) / (2 * radius), force=force, tol=1e-10)
     case = f"layer_sphere 40 nm SiO2 on Si, {n}^2 free / {4 * n}^2 periodic"
-    return [
+    rows = [
         _row(case, "contact area, free-boundary against periodic", rp.contact_area, rf.contact_area, 0.005),
         _row(case, "largest pressure, free-boundary against periodic", float(rp.pressure.max()),
              float(rf.pressure.max()), 1e-3),
     ]
+    # the load-approach point against the axisymmetric ring solution with the coated kernel's
+    # Hankel transform (analytic/capped_sphere.py; no grid, no DC-FFT)
+    eref = ContactPair(probe, probe).effective_modulus  # the layer (SiO2) against the SiO2 probe
+
+    def compliance(q):
+        return np.real(pair.model.symbol(pair, "zz", q, np.zeros_like(q)))
+
+    ax = capped_sphere(radius, eref, math.inf, force=force, rings=300,
+                       influence=coated_ring_influence(compliance, eref, t))
+    rows += [
+        _row(f"layer_sphere 40 nm SiO2 on Si, {n}^2", "approach against the axisymmetric coated solution",
+             ax.approach, rf.approach, 2e-3),
+        _row(f"layer_sphere 40 nm SiO2 on Si, {n}^2", "largest pressure against the axisymmetric coated solution",
+             float(ax.pressure.max()), float(rf.pressure.max()), 5e-3),
+    ]
+    return rows
 
 
 #: The cases of this module, in the order they run: name -> ``rows(quick)``.
