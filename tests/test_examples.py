@@ -26,7 +26,7 @@ REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = sorted((REPO / "examples").glob("*.toml"))
 
 #: Examples over ~20 s of CPU on a shared 2-core machine run with the slow tests.
-SLOW = {"partial_slip_paper_d", "pulloff_afm_park_levels"}
+SLOW = {"partial_slip_paper_d", "pulloff_afm_park_levels", "normal_coated_paper_c"}
 
 
 def _params():

@@ -1,5 +1,7 @@
 """The materials physics of ``tribobem validate``: registered, gated, and passing at its quick tier."""
 
+import pytest
+
 from tribobem.validation import PHYSICS, PHYSICS_CASES, run_validation
 from tribobem.validation.gate import GATE
 from tribobem.validation.materials import CASES
@@ -15,6 +17,7 @@ def test_materials_is_a_physics_with_gated_cases():
     assert all(name in GATE for name in CASES)
 
 
+@pytest.mark.slow  # (the CI gate runs the materials physics at its full tier)
 def test_quick_tier_passes_with_finite_tolerances():
     rows = run_validation(level="quick", physics=["materials"])
     assert len(rows) >= 14

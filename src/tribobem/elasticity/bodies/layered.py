@@ -146,8 +146,8 @@ from .base import BodyModel  # noqa: E402
 #: they are the layer's half-space values (exp(-2 S_MAX) of them), below S_MIN the table's first.
 S_MIN, S_MAX, S_POINTS = 1e-5, 40.0, 3000
 #: Free boundary: the smooth remainder of the kernel is kept out to R_CUT layer thicknesses
-#: (beyond, it decays as (t / r)^3 relative to the half-space terms: 1e-6 there).
-R_CUT = 100.0
+#: (beyond, it decays as (t / r)^3 relative to the half-space terms: 5e-6 there).
+R_CUT = 60.0
 
 
 @lru_cache(maxsize=32)
@@ -173,31 +173,78 @@ def _rect_inverse_distance(xc, yc, t: float) -> np.ndarray:
 
 
 @lru_cache(maxsize=16)
-def _remainder_table(nu_layer: float, nu_substrate: float, shear_ratio: float, t: float):
-    """The smooth part of the coated body's zz kernel in real space, per unit force (m/N x G_l).
+def _remainder_tables(nu_layer: float, nu_substrate: float, shear_ratio: float, t: float):
+    """The smooth parts of the coated body's kernels in real space (x G_l, per unit force).
 
-    With C(q) G_l = f(q t) / q = (1 - nu_l) / q + a e^(-q t) / q + R2(q) (a = f(0) - (1 - nu_l)),
-    the kernel is (1 - nu_l) / (2 pi r) + a / (2 pi sqrt(r^2 + t^2)) + I(r) / (2 pi), with
-    I(r) = int_0^inf R2(q) J0(q r) q dq tabulated here on [0, R_CUT t] (R2 is bounded and decays
-    as exp(-q t); I decays as (t / r)^3).
+    Each block's remainder over the layer's half-space, R(q) G_l = (f(q t) - f_layer) / q, is
+    A e^(-q t) / q (A its q -> 0 limit, in closed form in real space) plus a bounded R2(q)
+    decaying as exp(-q t), whose Hankel transform int_0^inf R2(q) J_n(q r) q dq is tabulated on
+    [0, R_CUT t] (it decays as (t / r)^3): n = 0 for "zz" (normal) and "S" (the isotropic part
+    of the in-plane blocks, (L + T) / 2), n = 2 for "D" ((L - T) / 2, with cos 2 phi), n = 1 for
+    "c" (the coupling, with cos phi).
+
+    Returns
+    -------
+    r : ndarray
+        The radii (m).
+    tables : dict
+        name -> (A, I(r)) (dimensionless, 1/m^2 x m^... per unit force x G_l).
     """
-    from scipy.special import j0
+    from scipy.special import j0, j1
+
+    def jn(order, x):
+        # J2 = 2 J1(x) / x - J0(x) (the recurrence; scipy's jv is 40x slower than j0, j1)
+        if order == 0:
+            return j0(x)
+        if order == 1:
+            return j1(x)
+        xs = np.where(x > 0, x, 1.0)
+        return np.where(x > 0, 2.0 * j1(xs) / xs - j0(xs), 0.0)
 
     sp = _factor_splines(nu_layer, nu_substrate, shear_ratio)
-    f0 = float(sp["zz"](math.log(S_MIN)))
-    a = f0 - (1.0 - nu_layer)
+    l0 = math.log(S_MIN)
+    lay = {"zz": 1.0 - nu_layer, "L": 1.0 - nu_layer, "T": 1.0, "xz": 0.5 * (1.0 - 2.0 * nu_layer)}
     q = np.linspace(0.0, 40.0 / t, 1 + int(40.0 * 8 * R_CUT))[1:]  # dq = 1 / (8 R_CUT t); R2 ~ exp(-40) beyond
-    s = q * t
-    f = np.where(s < S_MAX, sp["zz"](np.log(np.clip(s, S_MIN, S_MAX))), 1.0 - nu_layer)
-    R2 = (f - (1.0 - nu_layer) - a * np.exp(-s)) / q
+    sq = q * t
+    ls = np.log(np.clip(sq, S_MIN, S_MAX))
+    thick = sq >= S_MAX
+
+    def diff(key):
+        f = np.where(thick, lay[key], sp[key](ls))
+        return f - lay[key], float(sp[key](l0)) - lay[key]
+
+    dzz, azz = diff("zz")
+    dL, aL = diff("L")
+    dT, aT = diff("T")
+    dc, ac = diff("xz")
+    parts = {"zz": (dzz, azz, 0), "S": (0.5 * (dL + dT), 0.5 * (aL + aT), 0),
+             "D": (0.5 * (dL - dT), 0.5 * (aL - aT), 2), "c": (dc, ac, 1)}
     w = np.full(q.size, q[1] - q[0])
     w[0] *= 0.5
-    r = np.concatenate([np.linspace(0.0, 4.0 * t, 401), np.geomspace(4.0 * t, R_CUT * t, 600)[1:]])
-    out = np.empty(r.size)
-    for k0 in range(0, r.size, 64):
-        rr = r[k0:k0 + 64, None]
-        out[k0:k0 + 64] = (j0(rr * q[None, :]) * (R2 * q * w)[None, :]).sum(axis=1)
-    return r, out, a
+    r = np.concatenate([np.linspace(0.0, 4.0 * t, 241), np.geomspace(4.0 * t, R_CUT * t, 300)[1:]])
+    decay = np.exp(-sq)
+    tables = {}
+    for name, (d, A, order) in parts.items():
+        if not np.any(d) and A == 0.0:  # a layer of the substrate's own material
+            tables[name] = (0.0, np.zeros(r.size))
+            continue
+        R2 = (d - A * decay) / q
+        out = np.empty(r.size)
+        for k0 in range(0, r.size, 64):
+            rr = r[k0:k0 + 64, None]
+            out[k0:k0 + 64] = (jn(order, rr * q[None, :]) * (R2 * q * w)[None, :]).sum(axis=1)
+        tables[name] = (A, out)
+    return r, tables
+
+
+def _analytic(order: int, r, t: float):
+    """int_0^inf e^(-q t) J_n(q r) dq (1/m): 1/rho, (rho - t) / (r rho), (rho - t)^2 / (r^2 rho)."""
+    rho = np.sqrt(r * r + t * t)
+    if order == 0:
+        return 1.0 / rho
+    rs = np.where(r > 0, r, 1.0)
+    base = np.where(r > 0, (rho - t) / rs, 0.0)
+    return base ** order / rho
 
 
 @dataclass(frozen=True)
@@ -294,16 +341,18 @@ class CoatedHalfSpace(BodyModel):
         return {"xz": cx * c, "zx": -cx * c, "yz": cx * s, "zy": -cx * s}[key]
 
     def influence_coefficients(self, pair, key: str, xc, yc) -> np.ndarray:
-        """The zz coefficients on a free-boundary grid (m/Pa): the layer's half-space (Love's
-        closed form), the exact cell integral of the long-wavelength term a / (2 pi G_l
-        sqrt(r^2 + t^2)) and a 6 x 6 Gauss rule on each cell for the smooth remainder (its
-        Hankel transform, tabulated); the other body's Love coefficients added."""
+        """The coefficients on a free-boundary grid (m/Pa): the layer's half-space (Love's and
+        Cerruti's closed forms, :func:`~tribobem.elasticity.influence.lattice_coefficients`) plus
+        the remainder of the coated body's kernel over it (:func:`_remainder_tables`: its
+        long-wavelength term in closed form, the rest by its Hankel transform; the normal block's
+        long-wavelength term integrated exactly over each cell, everything else by a 6 x 6 Gauss
+        rule on each cell), and the other body's half-space coefficients."""
         from ...materials import ContactPair, Material
         from ..influence import lattice_coefficients
 
-        if key != "zz":
-            raise InputError("grid.periodic", "a coated body on a free-boundary grid has normal (zz) influence "
-                             "coefficients only: the tangential kinds need a periodic grid")
+        blocks = ("zz", "xx", "yy", "xy", "yx", "xz", "zx", "yz", "zy")
+        if key not in blocks:
+            raise InputError("key", f"must be one of {', '.join(blocks)}, got {key!r}")
         xc = np.asarray(xc, float)
         yc = np.asarray(yc, float)
         dx, dy = float(xc[1] - xc[0]), float(yc[1] - yc[0])
@@ -313,29 +362,58 @@ class CoatedHalfSpace(BodyModel):
                              "layer is below the free-boundary grid's resolution; refine grid.n, or model the body "
                              "without the layer")
         Gl = self.layer_shear_modulus
-        layer_pair = ContactPair(Material(self.E, self.nu), Material.rigid())
-        out = lattice_coefficients("zz", layer_pair, xc, yc)
+        layer = Material(self.E, self.nu)
+        rigid = Material.rigid()
+        # the coated body's layer as a half-space, and the other body, each on its own side
+        own = ContactPair(layer, rigid) if self.coated == 1 else ContactPair(rigid, layer)
+        out = lattice_coefficients(key, own, xc, yc)
+        other = pair.body2 if self.coated == 1 else pair.body1
+        if not other.is_rigid:
+            out += lattice_coefficients(key, ContactPair(rigid, other) if self.coated == 1
+                                        else ContactPair(other, rigid), xc, yc)
         sub, ratio = self._substrate(pair)
-        r_tab, I_tab, a = _remainder_table(float(self.nu), float(sub.nu), float(ratio), float(t))
-        out += a / (2.0 * math.pi * Gl) * _rect_inverse_distance(xc, yc, t)
-        # the smooth remainder, on the cells within R_CUT t of the loaded cell
+        r_tab, tables = _remainder_tables(float(self.nu), float(sub.nu), float(ratio), float(t))
+        sign = -1.0 if (self.coated == 2 and key in ("xz", "zx", "yz", "zy")) else 1.0
+        if key == "zz":
+            out += tables["zz"][0] / (2.0 * math.pi * Gl) * _rect_inverse_distance(xc, yc, t)
+
+        def kernel(X, Y):
+            """The remainder's point kernel (x 2 pi G_l) at offsets X, Y (m)."""
+            r = np.hypot(X, Y)
+            rs = np.where(r > 0, r, 1.0)
+            c, sn = X / rs, Y / rs
+
+            def H(name, order):
+                A, tab = tables[name]
+                smooth = np.interp(r, r_tab, tab, right=0.0)
+                return (smooth + A * _analytic(order, r, t)) if name != "zz" else smooth
+
+            if key == "zz":
+                return H("zz", 0)  # (its long-wavelength term is integrated exactly above)
+            if key in ("xx", "yy"):
+                c2 = c * c - sn * sn
+                return H("S", 0) + (-c2 if key == "xx" else c2) * H("D", 2)
+            if key in ("xy", "yx"):
+                return -2.0 * c * sn * H("D", 2)
+            ang = c if key in ("xz", "zx") else sn
+            # u_x from p is -cos(phi) H1[R_c]; u_z from q_x its negative (Betti)
+            return (-1.0 if key in ("xz", "yz") else 1.0) * ang * H("c", 1)
+
         gx, gw = np.polynomial.legendre.leggauss(6)
         xm = 0.5 * (xc[1:] + xc[:-1])
         ym = 0.5 * (yc[1:] + yc[:-1])
         reach = R_CUT * t + max(dx, dy)
+        if key != "zz":
+            reach = math.inf  # the long-wavelength terms reach every cell
         ix = np.flatnonzero(np.abs(xm) <= reach)
         iy = np.flatnonzero(np.abs(ym) <= reach)
         if ix.size and iy.size:
-            X = xm[ix][:, None, None, None] + 0.5 * dx * gx[None, None, :, None]
-            Y = ym[iy][None, :, None, None] + 0.5 * dy * gx[None, None, None, :]
+            Xg = 0.5 * dx * gx
+            Yg = ym[iy][:, None, None] + 0.5 * dy * gx[None, None, :]
             Wt = (0.25 * dx * dy) * gw[:, None] * gw[None, :]
             acc = np.zeros((ix.size, iy.size))
             for k in range(ix.size):  # one row of cells at a time (memory)
-                r = np.hypot(X[k], Y[0])
-                vals = np.interp(r, r_tab, I_tab, right=0.0)
-                acc[k] = (vals * Wt[None]).sum(axis=(-2, -1))
-            out[np.ix_(ix, iy)] += acc / (2.0 * math.pi * Gl)
-        other = pair.body2 if self.coated == 1 else pair.body1
-        if not other.is_rigid:
-            out += lattice_coefficients("zz", ContactPair(other, Material.rigid()), xc, yc)
+                X = (xm[ix[k]] + Xg)[None, :, None]
+                acc[k] = (kernel(X, Yg) * Wt[None]).sum(axis=(-2, -1))
+            out[np.ix_(ix, iy)] += sign * acc / (2.0 * math.pi * Gl)
         return out
