@@ -5,7 +5,7 @@ Conventions: tension positive, z the depth into the body (m), a the contact radi
 half-width (m), p0 the maximum Hertz pressure (Pa); the results are in Pa.
 
 Sphere (Huber 1904; Johnson, *Contact Mechanics*, 1985, Eqs. 3.44-3.45), with
-u = [(r^2 + z^2 - a^2) + sqrt((r^2 + z^2 - a^2)^2 + 4 a^2 z^2)] / 2:
+u = [(r^2 + z^2 - a^2) + sqrt((r^2 + z^2 - a^2)^2 + 4 a^2 z^2)] / 2::
 
     sigma_r / p0 = (1 - 2 nu) / 3 (a^2 / r^2) (1 - (z / sqrt u)^3)
                    + (z / sqrt u)^3 a^2 u / (u^2 + a^2 z^2)
@@ -22,7 +22,7 @@ shear stress (sigma_z - sigma_r) / 2 is 0.31 p0 at z = 0.48 a.
 Sliding cylinder (plane strain; McEwen 1949; Johnson Eqs. 4.49 and 7.14; the tangential
 traction q = mu p acts on the body's surface in +x), with
 m^2 = [sqrt((a^2 - x^2 + z^2)^2 + 4 x^2 z^2) + (a^2 - x^2 + z^2)] / 2,
-n^2 = [sqrt(...) - (a^2 - x^2 + z^2)] / 2, n of the sign of x:
+n^2 = [sqrt(...) - (a^2 - x^2 + z^2)] / 2, n of the sign of x::
 
     normal:      sigma_x = -(p0 / a) [m (1 + (z^2 + n^2) / (m^2 + n^2)) - 2 z]
                  sigma_z = -(p0 / a) m (1 - (z^2 + n^2) / (m^2 + n^2))
