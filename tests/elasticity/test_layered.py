@@ -104,6 +104,7 @@ def _partial_slip(layer, periodic):
         return run_scenario(parse_scenario(d), outdir=None, progress=False, base_dir=ex)
 
 
+@pytest.mark.slow  # (7 s; the free-vs-periodic block test covers the coated tangential operator)
 def test_tangential_kinds_on_a_coated_periodic_cell():
     bare = _partial_slip(None, True)
     # a layer of the substrate's own material is the bare body

@@ -61,6 +61,7 @@ def test_partial_slip_friction_on_plastic_nodes_is_mu_h():
     assert max(s["plastic_area"] for s in r.summary["steps"]) > 0
 
 
+@pytest.mark.slow  # (10 s; the default run's budget: normal and partial_slip above cover the cap's path)
 def test_hysteresis_and_pulloff_and_capillary_take_the_cap():
     r = _run("hysteresis_mindlin", "0.4 GPa")
     assert r.summary["converged"]
