@@ -53,6 +53,7 @@ from ..analytic.subsurface import huber_stresses, mcewen_stresses
 from ..elasticity import free_boundary_operator, make_operator
 from ..elasticity.subsurface import subsurface_stress
 from ..geometry.rough import self_affine_surface
+from ..geometry.shapes import sphere
 from ..grid import Grid
 from ..interactions.dugdale import build_dugdale
 from ..interactions.hardness import HardnessCap
@@ -74,10 +75,8 @@ def _hertz_scales(pair=_PAIR, radius=_R, force=_F):
 
 
 def _sphere_problem(n: int, a: float, radius: float = _R, span: float = 3.0):
-    grid = Grid(n, n, span * a, span * a, periodic=False)
-    x = (np.arange(n) - n / 2 + 0.5) * grid.dx
-    X, Y = np.meshgrid(x, x, indexing="ij")
-    return grid, (X ** 2 + Y ** 2) / (2 * radius)
+    grid = Grid.square(n, span * a)
+    return grid, sphere(grid, radius)
 
 
 def _hertz_rows(quick: bool) -> list[ValidationRow]:
@@ -171,8 +170,7 @@ def _subsurface_hertz_rows(quick: bool) -> list[ValidationRow]:
     case = f"subsurface_hertz nu={nu:g} {n}^2"
     rows = [_row(case, "largest shear stress on the axis / p0 (Huber: 0.31)", 0.3100, tau[k] / p0, 0.01),
             _row(case, "its depth / a (Huber: 0.48)", 0.48, z[k] / a, 0.03)]
-    x = (np.arange(n) - n / 2 + 0.5) * grid.dx
-    X, Y = np.meshgrid(x, x, indexing="ij")
+    X, Y = grid.meshgrid()
     R = np.hypot(X, Y)
     for zr in (0.48, 1.0):
         s1 = subsurface_stress(grid, res.pressure, depths=[zr * a], nu=nu)
@@ -285,14 +283,10 @@ def _layer_sphere_rows(quick: bool) -> list[ValidationRow]:
     pair = ContactPair(sub, probe, model=CoatedHalfSpace(1, _SIO2[0], _SIO2[1], t))
     n = 96 if quick else 128
     L = 0.2e-6
-    free = Grid(n, n, L, L, periodic=False)
-    xf = (np.arange(n) - n / 2 + 0.5) * free.dx
-    X, Y = np.meshgrid(xf, xf, indexing="ij")
-    rf = _solve(free_boundary_operator(free, pair), (X ** 2 + Y ** 2) / (2 * radius), force=force, tol=1e-10)
-    per = Grid(4 * n, 4 * n, 4 * L, 4 * L, periodic=True)
-    xp = (np.arange(4 * n) - 2 * n + 0.5) * per.dx
-    X, Y = np.meshgrid(xp, xp, indexing="ij")
-    rp = _solve(periodic_operator(per, pair), (X ** 2 + Y ** 2) / (2 * radius), force=force, tol=1e-10)
+    free = Grid.square(n, L)
+    rf = _solve(free_boundary_operator(free, pair), sphere(free, radius), force=force, tol=1e-10)
+    per = Grid.square(4 * n, 4 * L, periodic=True)
+    rp = _solve(periodic_operator(per, pair), sphere(per, radius), force=force, tol=1e-10)
     case = f"layer_sphere 40 nm SiO2 on Si, {n}^2 free / {4 * n}^2 periodic"
     rows = [
         _row(case, "contact area, free-boundary against periodic", rp.contact_area, rf.contact_area, 0.005),

@@ -25,9 +25,23 @@ As s -> infinity they tend to the layer's half-space values, as s -> 0 to the su
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import ClassVar
+
 import numpy as np
 
-__all__ = ["layer_factors"]
+from ...errors import InputError
+from .base import BodyModel
+
+__all__ = ["CoatedHalfSpace", "layer_factors"]
+
+
+def _halfspace_factors(nu: float) -> dict:
+    """A homogeneous half-space's factors (zz, L, T, xz / i; module docstring): its compliances
+    times G q, the limits of a layer of Poisson's ratio ``nu`` as q t -> infinity."""
+    return {"zz": 1.0 - nu, "L": 1.0 - nu, "T": 1.0, "xz": 0.5 * (1.0 - 2.0 * nu)}
 
 
 def _plane_rows(z, G, nu, grow, shift):
@@ -134,13 +148,6 @@ def layer_factors(s, nu_layer: float, nu_substrate: float, shear_ratio: float) -
 
 
 # ----------------------------------------------------------------------------- the body model
-import math  # noqa: E402
-from dataclasses import dataclass  # noqa: E402
-from functools import lru_cache  # noqa: E402
-from typing import ClassVar  # noqa: E402
-
-from ...errors import InputError  # noqa: E402
-from .base import BodyModel  # noqa: E402
 
 #: The factors are tabulated on log-spaced s = q t in [S_MIN, S_MAX] and splined; beyond S_MAX
 #: they are the layer's half-space values (exp(-2 S_MAX) of them), below S_MIN the table's first.
@@ -203,7 +210,7 @@ def _remainder_tables(nu_layer: float, nu_substrate: float, shear_ratio: float, 
 
     sp = _factor_splines(nu_layer, nu_substrate, shear_ratio)
     l0 = math.log(S_MIN)
-    lay = {"zz": 1.0 - nu_layer, "L": 1.0 - nu_layer, "T": 1.0, "xz": 0.5 * (1.0 - 2.0 * nu_layer)}
+    lay = _halfspace_factors(nu_layer)
     q = np.linspace(0.0, 40.0 / t, 1 + int(40.0 * 8 * R_CUT))[1:]  # dq = 1 / (8 R_CUT t); R2 ~ exp(-40) beyond
     sq = q * t
     ls = np.log(np.clip(sq, S_MIN, S_MAX))
@@ -300,12 +307,8 @@ class CoatedHalfSpace(BodyModel):
         ls = np.log(np.clip(s, S_MIN, S_MAX))
         thick = s >= S_MAX
         Gq = self.layer_shear_modulus * q
-        nl = self.nu
-        zz = np.where(thick, 1.0 - nl, sp["zz"](ls)) / Gq
-        L = np.where(thick, 1.0 - nl, sp["L"](ls)) / Gq
-        T = np.where(thick, 1.0, sp["T"](ls)) / Gq
-        xz = np.where(thick, 0.5 * (1.0 - 2.0 * nl), sp["xz"](ls)) / Gq
-        return zz, L, T, xz
+        lay = _halfspace_factors(self.nu)
+        return tuple(np.where(thick, lay[k], sp[k](ls)) / Gq for k in ("zz", "L", "T", "xz"))
 
     def symbol(self, pair, key, qx, qy):
         """The composite Fourier kernels (m/Pa): the coated body's from :func:`layer_factors`,
@@ -321,10 +324,8 @@ class CoatedHalfSpace(BodyModel):
             elif mat.is_rigid:
                 continue
             else:
-                G, nu = mat.shear_modulus, mat.nu
-                zz = L = (1.0 - nu) / (G * qs)
-                T = 1.0 / (G * qs)
-                xz = 0.5 * (1.0 - 2.0 * nu) / (G * qs)
+                hs = _halfspace_factors(mat.nu)
+                zz, L, T, xz = (hs[k] / (mat.shear_modulus * qs) for k in ("zz", "L", "T", "xz"))
             total["zz"] = total["zz"] + zz
             total["xx"] = total["xx"] + L * c * c + T * s * s
             total["yy"] = total["yy"] + L * s * s + T * c * c
