@@ -78,7 +78,8 @@ def find_jumps(curve: LoadCurve, threshold: float = JUMP_THRESHOLD,
     larger area and by more than ``min_fraction`` of the branch's largest area, and (ii) its
     force-approach slope exceeds ``slope_factor`` times the slopes of both neighbouring
     steps: new asperities touching a rough surface change the area in bursts but leave the
-    force continuous, a branch ending makes the force jump.
+    force continuous, a branch ending makes the force jump.  A step with no neighbouring step
+    (a branch of two points) is never a jump: the slope test needs a neighbour.
 
     Only converged points are considered, each branch on its own.
 
@@ -119,7 +120,9 @@ def find_jumps(curve: LoadCurve, threshold: float = JUMP_THRESHOLD,
             if ref <= 0 or abs(a1 - a0) <= threshold * ref or abs(a1 - a0) <= min_fraction * a_max:
                 continue
             neighbours = [slope[j] for j in (k - 1, k + 1) if 0 <= j < len(slope) and np.isfinite(slope[j])]
-            if neighbours and np.isfinite(slope[k]) and slope[k] <= slope_factor * max(neighbours):
+            # without a neighbouring step the slope test cannot be made: a branch of two points
+            # (e.g. two loads of a Hertz contact, the area growing 4.6 times) shows no jump
+            if not neighbours or (np.isfinite(slope[k]) and slope[k] <= slope_factor * max(neighbours)):
                 continue
             i1 = int(idx[k + 1])
             kind = "jump-in" if a1 > a0 else "jump-off"
