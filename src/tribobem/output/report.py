@@ -755,6 +755,10 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
     for key, label, dim in _PROBLEM_SCALARS + law_report_rows():
         if prob.get(key) is not None:
             rows.append((label, _fmt(prob[key], dim)))
+    lay = prob.get("layer")
+    if lay:  # a coated body: E* above is the pair of substrates
+        rows.append((f"body{lay['body']} coating", f"{_fmt(lay['thickness'], 'length')} layer, E "
+                     f"{_fmt(lay['E'], 'pressure')}, nu {lay['nu']:g}, bonded to the body (E* above: the substrates')"))
     g = prob.get("grid")
     if g:
         rows.append(("grid", f"{g['nx']} x {g['ny']} cells, {format_quantity(g['lx'], 'length')} x "

@@ -880,6 +880,10 @@ def _build_problem(scenario: Scenario, base_dir) -> Problem:
                  "periodic": grid.periodic},
         "operator": op.kind if op is not None else "none (both bodies rigid)",
         "effective_modulus": E_star,
+        # a coated body: its layer (the pair's E* above is the substrates')
+        **({"layer": {"body": pair.model.coated, "E": pair.model.E, "nu": pair.model.nu,
+                      "thickness": pair.model.thickness}}
+           if pair is not None and isinstance(pair.model, CoatedHalfSpace) else {}),
         "gap_peak_to_valley": float(gap.max()),
     })
     radius = _sphere_radius(sc)
