@@ -112,7 +112,8 @@ def test_the_settings_are_frozen_and_the_summary_holds_what_applies():
     st = SolverSettings.from_scenario(_scenario(NORMAL))
     with pytest.raises(AttributeError):
         st.tolerance = 1.0
-    assert st.summary() == {"tolerance": 1e-10, "max_iterations": 10000, "method": "auto", "normal_method": "normcg"}
+    assert st.summary() == {"tolerance": 1e-10, "max_iterations": 10000, "method": "auto", "normal_method": "normcg",
+                            "precision": "auto"}
     coupled = SolverSettings.from_scenario(_scenario(_partial_slip())).summary()
     assert coupled == {"tolerance": 1e-10, "max_iterations": 10000, "method": "auto", "normal_method": "normcg",
                        "tangential_tolerance": 1e-7, "coupling_tolerance": 1e-6, "onset_tolerance": 1e-3,
@@ -279,3 +280,32 @@ def test_no_runner_writes_into_the_built_problem():
                         break
                     t = base
     assert not bad, "runners write into the built problem at " + ", ".join(bad)
+
+
+# ----------------------------------------------------------------------------- [solver] precision
+def test_precision_reaches_the_normal_solves_and_single_is_refused_elsewhere(monkeypatch):
+    from tribobem.errors import InputError
+    from tribobem.solvers import normal as normal_mod
+
+    d = copy.deepcopy(NORMAL)
+    d["solver"] = {"precision": "single"}
+    sc = _scenario(d)
+    st = SolverSettings.from_scenario(sc)
+    assert st.normal_run_kw()["precision"] == "single" and st.summary()["precision"] == "single"
+    seen: list = []
+    real = normal_mod.solve_normal
+
+    def spy(*a, **kw):
+        seen.append(kw)
+        return real(*a, **kw)
+
+    monkeypatch.setattr("tribobem.runs.normal.solve_normal", spy)
+    m = run_scenario(sc, progress=False)
+    assert seen and seen[0]["precision"] == "single"
+    assert m.summary["solver"]["precision"] == "single"
+    with pytest.raises(InputError, match="solver.precision"):
+        _scenario({**d, "adhesion": DUGDALE})
+    pull = _example("pulloff_sphere")
+    pull["solver"] = {"precision": "single"}
+    with pytest.raises(InputError, match="solver.precision"):
+        _scenario(pull)

@@ -436,7 +436,7 @@ class Backend:
         _pocketfft.c2r(A[:rows], (1,), N2, False, 2, u, w)
         return u
 
-    def convolve_padded_blocked(self, a, spec, s, out=None, reciprocal: bool = False):
+    def convolve_padded_blocked(self, a, spec, s, out=None, reciprocal: bool = False, single: bool = False):
         """The zero-padded (free-boundary) convolution of ``a`` with the kernel spectrum ``spec``
         in blocks: the same transforms as :meth:`rfft2_padded`, ``spec`` and
         :meth:`irfft2_rows`, but the FFT along x runs on blocks of columns and the real FFTs
@@ -459,11 +459,15 @@ class Backend:
         reciprocal : bool
             Divide by ``spec`` instead of multiplying (the inverse operator, with no second
             spectrum stored).
+        single : bool
+            Transform in single precision (complex64 work arrays, half the memory); ``spec``
+            should then be single precision too (a double one is cast block by block).
 
         Returns
         -------
         ndarray
-            The first m1 x m2 values of the inverse transform: ``out`` when given.
+            The first m1 x m2 values of the inverse transform: ``out`` when given (float32
+            with ``single`` when not given).
         """
         m1, m2 = a.shape
         N1, N2 = int(s[0]), int(s[1])
@@ -472,13 +476,19 @@ class Backend:
         bufs = work_buffers(self)
         rb = max(1, min(m1, _BLOCK_POINTS // N2))
         cb = max(1, min(H, _BLOCK_POINTS // N1))
-        key = ("blocked", m1, m2, N1, N2, rb, cb)
+        real = np.float32 if single else np.float64
+        cplx = _COMPLEX[real]
+        key = ("blocked", m1, m2, N1, N2, rb, cb, real)
         got = bufs.get(key)
         if got is None:
             if len(bufs) > 16:
                 bufs.clear()
-            got = bufs[key] = (np.empty((m1, H), dtype=complex), np.zeros((rb, N2)),
-                               np.empty((N1, cb), dtype=complex))
+            # (a single-precision solve uses both: the double one only for its exact checks, so
+            # that the full-size half-spectrum of the other precision is dropped first)
+            for k in [k for k in bufs if k[0] == "blocked" and k[1:7] == key[1:7]]:
+                del bufs[k]
+            got = bufs[key] = (np.empty((m1, H), dtype=cplx), np.zeros((rb, N2), dtype=real),
+                               np.empty((N1, cb), dtype=cplx))
         S, row, col = got
         # real FFT along y of the unpadded rows (the padding rows would transform to 0)
         for i0 in range(0, m1, rb):
@@ -489,7 +499,7 @@ class Backend:
         # FFT along x of each block of columns, zero-padded to N1 rows, times the kernel, back
         for j0 in range(0, H, cb):
             k = min(cb, H - j0)
-            C = col if k == cb else np.empty((N1, k), dtype=complex)
+            C = col if k == cb else np.empty((N1, k), dtype=cplx)
             C[:m1] = S[:, j0:j0 + k]
             C[m1:] = 0.0
             _pocketfft.c2c(C, (0,), True, 0, C, w)
@@ -497,7 +507,7 @@ class Backend:
             _pocketfft.c2c(C, (0,), False, 2, C, w)
             S[:, j0:j0 + k] = C[:m1]
         # real inverse FFT along y of the kept rows, in blocks of rows
-        u = out if out is not None else np.empty((m1, m2))
+        u = out if out is not None else np.empty((m1, m2), dtype=real)
         for i0 in range(0, m1, rb):
             k = min(rb, m1 - i0)
             _pocketfft.c2r(S[i0:i0 + k], (1,), N2, False, 2, row[:k], w)
@@ -647,10 +657,10 @@ class Backend:
         return a.get()
 
 
-def single_spectrum(owner, key, spec):
-    """The single-precision copy (complex64, also of a real spectrum) of the kernel
-    spectrum ``spec``, cached on ``owner`` under ``key`` (made again when ``spec`` is another
-    array than the one cached).
+def single_spectrum(owner, key, spec, keep_real: bool = False):
+    """The single-precision copy (complex64, also of a real spectrum, unless ``keep_real``) of
+    the kernel spectrum ``spec``, cached on ``owner`` under ``key`` (made again when ``spec`` is
+    another array than the one cached).
 
     Parameters
     ----------
@@ -661,6 +671,9 @@ def single_spectrum(owner, key, spec):
         Name of the spectrum (e.g. the block and the transform shape).
     spec : ndarray
         The double-precision spectrum.
+    keep_real : bool
+        A real spectrum stays real (float32: half the memory of complex64; the normal solvers'
+        large free-boundary grids, whose transforms run in blocks).
 
     Returns
     -------
@@ -668,14 +681,23 @@ def single_spectrum(owner, key, spec):
         Its single-precision copy.
     """
     cache = owner.cache.single_spectra
+    xp = np if isinstance(spec, np.ndarray) else None
+    real = keep_real and not (xp or _cupy()).iscomplexobj(spec)
+    key = (key, real)
     got = cache.get(key)
     if got is None or got[0] is not spec:
         if len(cache) >= 32:
             cache.clear()
         # complex64 also for a real spectrum (zero imaginary parts): the same products, and NumPy
         # multiplies complex64 by complex64 faster than by a float32 array (cast in chunks)
-        got = cache[key] = (spec, spec.astype(np.complex64))
+        got = cache[key] = (spec, spec.astype(np.float32 if real else np.complex64))
     return got[1]
+
+
+def _cupy():
+    import cupy
+
+    return cupy
 
 
 def work_buffers(owner) -> dict:

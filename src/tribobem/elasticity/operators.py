@@ -46,10 +46,11 @@ import scipy.fft as sfft
 from ..errors import InputError
 from ..grid import Grid
 from ..materials import ContactPair
-from .backend import Backend, default_workers, times_spectrum, work_buffers
+from .backend import Backend, default_workers, single_spectrum, times_spectrum, work_buffers
 from .backends import get_backend
 from .bodies import body_model_of
 from .cache import OperatorCache
+from .malloc import lean_allocator
 
 AXES = ("x", "y", "z")
 
@@ -179,7 +180,7 @@ class ConvolutionOperator:
         """
         return self.apply(traction)
 
-    def apply(self, traction, out=None):
+    def apply(self, traction, out=None, single: bool = False):
         """Displacements (m) from tractions (Pa).
 
         Parameters
@@ -190,12 +191,20 @@ class ConvolutionOperator:
         out : array, optional
             Single-component operator: a C-contiguous real array of ``grid.shape`` to write
             the displacement into (may be ``traction``); ignored otherwise.
+        single : bool
+            Single-component operator: transform in single precision (float32 / complex64
+            transforms and a float32 copy of the spectrum; relative error ~1e-7 of the largest
+            displacement), returning float32 when ``out`` is not given.  For the images of
+            search directions and preconditioners, never for a residual that decides
+            convergence.
 
         Returns
         -------
         array
             Same shape as ``traction`` (``out`` when given to a single-component operator).
         """
+        if single and len(self.components) == 1:
+            return self._apply_single(traction, out)
         be, nx, ny = self.backend, self.grid.nx, self.grid.ny
         # Free boundary with scipy.fft: the zero-padded transforms skip the padding rows
         # (Backend.rfft2_padded / irfft2_rows; the same arithmetic, tested).
@@ -257,6 +266,44 @@ class ConvolutionOperator:
                     continue
                 u = be.irfft2(acc, s=self.fft_shape)
                 out[i] = u if self.periodic else u[:nx, :ny]
+        return out
+
+    def _apply_single(self, traction, out=None):
+        """:meth:`apply` of a single-component operator in single precision."""
+        be, nx, ny, xp = self.backend, self.grid.nx, self.grid.ny, self.xp
+        spec = self.spectra.get("zz")
+        if spec is None:
+            if out is None:
+                return xp.zeros(self.grid.shape, dtype=np.float32)
+            out[...] = 0.0
+            return out
+        spec = single_spectrum(self, ("zz", self.fft_shape), spec, keep_real=True)
+        a = xp.asarray(traction, dtype=np.float32)
+        lean = not self.periodic and be._lean()
+        if lean and be.blocked(self.fft_shape):
+            return be.convolve_padded_blocked(np.ascontiguousarray(a), spec, self.fft_shape, out=out,
+                                              reciprocal=self.reciprocal, single=True)
+        if lean:
+            N1, N2 = self.fft_shape
+            shp = (N1, N2 // 2 + 1)
+            bufs = work_buffers(be)
+            T = bufs.get(("spectrum", shp, "single"))
+            if T is None:
+                if len(bufs) > 16:
+                    bufs.clear()
+                T = bufs[("spectrum", shp, "single")] = np.empty(shp, dtype=np.complex64)
+            T = be.rfft2_padded(a, self.fft_shape, out=T, single=True)
+            times_spectrum(T, spec, self.reciprocal)
+            rows = be.irfft2_rows(T, self.fft_shape, nx, out=be.rows_buffer(nx, ny, N2, dtype=np.float32))
+        else:
+            T = be.rfft2(a, s=self.fft_shape)
+            if T.dtype != np.complex64:  # an engine without single-precision transforms
+                T = T.astype(np.complex64)
+            times_spectrum(T, spec, self.reciprocal)
+            rows = be.irfft2(T, s=self.fft_shape)
+        if out is None:
+            return xp.array(rows[:nx, :ny], dtype=np.float32)
+        out[...] = rows[:nx, :ny]
         return out
 
     def __repr__(self) -> str:
@@ -371,9 +418,59 @@ def free_boundary_operator(grid: Grid, pair: ContactPair, components=("z",),
     if grid.periodic:
         grid = Grid(grid.nx, grid.ny, grid.lx, grid.ly, False)
     grid.check_memory(n_components=len(components))  # before any large allocation
-    spectra = _free_boundary_cached(grid, pair, components, be.name)
+    if grid.nx * grid.ny >= LEAN_ALLOCATOR_NODES:
+        lean_allocator()
+    if grid.nx * grid.ny >= LAZY_SPECTRA_NODES:
+        # large grids: the kernel spectra are made on first use (a candidate-set solve,
+        # solvers.candidates, never needs the whole grid's 2nx x 2ny spectrum: its memory and its
+        # build time); the model's coefficients of one cell now, so that a model without
+        # free-boundary coefficients, or refusing this grid, says so here
+        body_model_of(pair).influence_coefficients(pair, "zz", np.array([-0.5, 0.5]) * grid.dx,
+                                                   np.array([-0.5, 0.5]) * grid.dy)
+        spectra = LazySpectra(lambda: _free_boundary_cached(grid, pair, components, be.name))
+    else:
+        spectra = _free_boundary_cached(grid, pair, components, be.name)
     return ConvolutionOperator(grid, pair, components, spectra, (2 * grid.nx, 2 * grid.ny), be,
                                _kind("free boundary (DC-FFT)", pair))
+
+
+class LazySpectra(Mapping):
+    """The kernel spectra of an operator, made by ``make()`` on first access (a mapping).
+
+    Parameters
+    ----------
+    make : callable
+        Returns the ``{block: spectrum}`` dict (cached by its maker).
+    """
+
+    def __init__(self, make):
+        self._make = make
+        self._spectra = None
+
+    @property
+    def built(self) -> bool:
+        """Whether the spectra have been made."""
+        return self._spectra is not None
+
+    def _get(self) -> dict:
+        if self._spectra is None:
+            self._spectra = self._make()
+        return self._spectra
+
+    def __getitem__(self, key):
+        return self._get()[key]
+
+    def __iter__(self):
+        return iter(self._get())
+
+    def __len__(self) -> int:
+        return len(self._get())
+
+
+#: Grids from this many nodes fix the allocator's mmap threshold (:mod:`.malloc`).
+LEAN_ALLOCATOR_NODES = 1024 * 1024
+#: Free-boundary grids from this many nodes make their kernel spectra on first use.
+LAZY_SPECTRA_NODES = 512 * 512
 
 
 @lru_cache(maxsize=8)
@@ -446,6 +543,8 @@ def periodic_operator(grid: Grid, pair: ContactPair, components=("z",), kernel: 
     if not grid.periodic:
         grid = Grid(grid.nx, grid.ny, grid.lx, grid.ly, True)
     grid.check_memory(n_components=len(components))  # before any large allocation
+    if grid.nx * grid.ny >= LEAN_ALLOCATOR_NODES:
+        lean_allocator()
     spectra = _periodic_cached(grid, pair, components, kernel, n_alias, be.name)
     return ConvolutionOperator(grid, pair, components, spectra, grid.shape, be, _kind(f"periodic ({kernel})", pair))
 

@@ -51,7 +51,7 @@ def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
         settings = SolverSettings.from_scenario(sc)
     if pb.two_scale is not None:  # [two_scale]: micro windows, then the macro solve
         return run_two_scale(pb, bar, settings)
-    kw = settings.normal_kw()
+    kw = settings.normal_run_kw()
     inter = pb.interaction
     approach_below_full_contact(pb)
     run_level: dict = {}
@@ -136,6 +136,7 @@ KIND = RunKind(
     figures=("load_curve", "two_scale", "maps"),
     columns=NORMAL_COLUMNS,
     results={"pull_off_force": "force", "pull_off_approach": "length", "hysteresis_energy": "energy"},
-    uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method",), "two_scale": ALL,
+    uses={"load": ("force", "approach", "forces", "approaches", "unload"), "solver": ("method", "precision"),
+          "two_scale": ALL,
           "body1": ("hardness", "layer"), "body2": ("hardness", "layer")},
 )

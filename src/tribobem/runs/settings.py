@@ -69,6 +69,10 @@ class SolverSettings:
         ``[solver] max_iterations``: per solver call.
     method : str
         ``[solver] method`` as given (``"auto"``, ``"polonsky_keer"`` or ``"normcg"``).
+    precision : str or None
+        ``[solver] precision`` (``"auto"``, ``"single"`` or ``"double"``): the arithmetic of the
+        NormCG solves of kind ``normal`` (:func:`~tribobem.solvers.normal_cg.solve_normal_cg`);
+        None for the other kinds, whose solves run in double precision.
     normal_method : str or None
         The normal solver ``method`` stands for (``"polonsky_keer"`` or ``"normcg"``;
         :func:`tribobem.solvers.normal.resolve_method`); None where the run's normal solves take
@@ -92,6 +96,7 @@ class SolverSettings:
     max_iterations: int
     method: str = "auto"
     normal_method: Optional[str] = "polonsky_keer"
+    precision: Optional[str] = None
     tangential_tolerance: Optional[float] = None
     coupling_tolerance: Optional[float] = None
     onset_tolerance: Optional[float] = None
@@ -119,6 +124,7 @@ class SolverSettings:
         takes_method = kind not in OWN_METHOD_KINDS or sc.humidity is not None
         return cls(
             kind=kind, tolerance=tol, max_iterations=solver.max_iterations, method=solver.method,
+            precision=solver.precision if kind == "normal" else None,
             normal_method=_normal_method(sc) if takes_method else None,
             tangential_tolerance=max(tol, TANGENTIAL_TOLERANCE) if coupled else None,
             coupling_tolerance=COUPLING_TOLERANCE if coupled else None,
@@ -165,6 +171,14 @@ class SolverSettings:
         """``tol``, ``max_iterations`` and ``method``: the keywords of
         :func:`~tribobem.solvers.normal.solve_normal` and the normal load paths."""
         return {**self.path_kw(), "method": self._method()}
+
+    def normal_run_kw(self) -> dict:
+        """:meth:`normal_kw` and ``precision``: the keywords of kind ``normal``'s solves and load
+        curves (Polonsky-Keer, the method of adhesive runs, keeps double precision)."""
+        precision = self.precision or "double"
+        if self._method() != "normcg" and precision == "single":
+            precision = "auto"  # (the schema refuses single with Polonsky-Keer)
+        return {**self.normal_kw(), "precision": precision}
 
     def coupled_kw(self) -> dict:
         """``tol``, ``max_iterations``, ``tangential_tol``, ``coupling_tol`` and ``normal_method``:

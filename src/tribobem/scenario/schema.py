@@ -1114,13 +1114,18 @@ class SolverSpec(Section):
     non-convex problem may let normcg settle on another valid equilibrium (give normcg to use it
     there: on a rough burl with menisci it is as fast at 96^2, 2.5x faster at 192^2, and at 384^2
     takes 142 s where polonsky_keer had not finished after 65 min); the dry pull-off solves
-    with polonsky_keer and refuses normcg)."""
+    with polonsky_keer and refuses normcg).  ``precision`` (auto | single | double; kind
+    ``normal``'s NormCG solves): single transforms the search directions and the preconditioner
+    in single precision while the convergence test stays in double, so the converged state
+    passes the double-precision test at ``tolerance``; auto, the default, is single from 512^2
+    nodes on the NumPy backend, double otherwise and wherever Polonsky-Keer solves."""
 
     tolerance: Number(gt=0, lt=1) = 1e-10
     max_iterations: Int(ge=1) = 10000
     backend: Literal["numpy", "cupy"] = "numpy"
     kernel: Literal["spectral", "influence"] = "spectral"
     method: Literal["auto", "polonsky_keer", "normcg"] = "auto"
+    precision: Literal["auto", "single", "double"] = "auto"
 
 
 class OutputSpec(Section):
@@ -1273,6 +1278,13 @@ class Scenario(Section):
                 by = [k for k, kd in RUN_KINDS.items() if key in kd.result_keys()]
                 _fail(f"expected.{key}", f"kind = {self.kind!r} does not produce it (produced by kind "
                       f"{', '.join(repr(k) for k in by)}); the expected value could never be compared")
+        if self.solver.precision == "single":
+            if self.kind != "normal":
+                _fail("solver.precision", f"single precision is for the NormCG solves of kind 'normal'; kind "
+                      f"{self.kind!r} runs in double precision (leave precision out)")
+            if self.adhesion.enabled or self.solver.method == "polonsky_keer":
+                _fail("solver.precision", "single precision is NormCG's (non-adhesive contact); this run's solver "
+                      "is Polonsky-Keer, which runs in double precision (leave precision out)")
         _geometry_fits_grid(self)
         if kind.check is not None:
             try:

@@ -199,6 +199,8 @@ def solve_normal(
     stall: int = 2000,
     method: str = "auto",
     precondition: bool = True,
+    precision: str = "double",
+    candidates: bool | None = None,
 ) -> NormalResult:
     """Solve a normal contact problem, with or without adhesion.
 
@@ -267,6 +269,16 @@ def solve_normal(
         in fewer iterations.  NormCG: the FFT preconditioner of every iteration.  False: the
         plain iteration of either (for comparison; NormCG's is the unpreconditioned
         bound-constrained CG, far slower).
+    precision : {"double", "single", "auto"}
+        NormCG's arithmetic (:func:`~tribobem.solvers.normal_cg.solve_normal_cg`): "single"
+        transforms the search directions and the preconditioner in single precision and keeps
+        the convergence test in double; "auto" is single where that is safe
+        (:func:`~tribobem.solvers.normal_cg.resolve_precision`).  Polonsky-Keer runs in double
+        precision ("auto" means double there; "single" is refused).
+    candidates : bool, optional
+        NormCG's candidate-set solve of non-adhesive free-boundary contact
+        (:mod:`tribobem.solvers.candidates`); None: where it applies on large grids.
+        Polonsky-Keer: None or False.
 
     Returns
     -------
@@ -293,7 +305,13 @@ def solve_normal(
         return solve_normal_cg(operator, gap, force=force, approach=approach, interaction=interaction, tol=tol,
                                max_iterations=max_iterations, initial_pressure=initial_pressure,
                                initial_contact=initial_contact, initial_displacement=initial_displacement,
-                               strict=strict, refresh=refresh, stall=stall, precondition=precondition)
+                               strict=strict, refresh=refresh, stall=stall, precondition=precondition,
+                               precision=precision, candidates=candidates)
+    if precision not in ("double", "auto"):
+        raise InputError("solve_normal.precision", f"single precision is NormCG's (method 'normcg'); Polonsky-Keer "
+                         f"runs in double precision: give 'double' or 'auto', got {precision!r}")
+    if candidates:
+        raise InputError("solve_normal.candidates", "the candidate-set solve is NormCG's (method 'normcg')")
     t_start = time.perf_counter()
     op = operator.normal
     h, inter, floor, force_control, target, shift, p, contact = normal_problem(

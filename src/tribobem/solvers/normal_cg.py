@@ -79,13 +79,15 @@ from ..results import NormalResult
 from .iteration import DEFER_RATIO, IterativeSolver, dot, relaxed_outside_update, run_iterations
 from .normal_problem import _self_compliance, normal_problem, normal_result
 
-__all__ = ["solve_normal_cg", "fft_preconditioner"]
+__all__ = ["solve_normal_cg", "fft_preconditioner", "resolve_precision"]
 
 #: Coarse-grid start (``coarse_levels=None``): halve the grid while the coarser one keeps at
 #: least this many nodes, at most ``_COARSE_MAX_LEVELS`` times; its tolerance.
 _COARSE_MIN_NODES = 256 * 256
 _COARSE_MAX_LEVELS = 3
 _COARSE_TOL = 1e-4
+#: precision="auto" runs single precision from this many nodes (below, a transform costs little)
+SINGLE_MIN_NODES = 512 * 512
 
 
 def fft_preconditioner(operator: ConvolutionOperator) -> ConvolutionOperator:
@@ -154,6 +156,8 @@ def solve_normal_cg(
     coarse_tol: float = _COARSE_TOL,
     coarse_restrict: str = "mean",
     coarse_prolong: str = "constant",
+    precision: str = "double",
+    candidates: bool | None = None,
 ) -> NormalResult:
     """Solve a normal contact problem (with or without adhesion) by NormCG.
 
@@ -211,6 +215,21 @@ def solve_normal_cg(
     coarse_restrict, coarse_prolong : str
         Coarse gap: "mean" (default) or "min" of each 2 x 2 block; fine start: "constant"
         (default, each coarse value on its 4 nodes) or "linear" (bilinear).
+    precision : {"double", "single", "auto"}
+        "single": the images of the search directions and the preconditioner are transformed
+        in single precision (float32 / complex64, a float32 copy of the spectrum), while the
+        displacement of the pressure is recomputed in double precision every ``refresh``
+        iterations and at every convergence check, so that the converged state satisfies the
+        double-precision tests at ``tol`` (certified: ``info["certificate"]``).  "auto": single
+        where the backend transforms in single precision and the problem is non-adhesive
+        (see :func:`resolve_precision`); "double" (default): double throughout.
+    candidates : bool, optional
+        Candidate-set solve of a non-adhesive free-boundary problem
+        (:mod:`.candidates`): solve on the box of nodes that can touch (gap below the
+        approach), verify every node outside, grow the box when the check fails, then one
+        whole-grid convolution for the displacement.  None (default): where it applies and
+        the grid has at least ``candidates.MIN_NODES`` nodes; True: wherever it applies;
+        False: never.
 
     Returns
     -------
@@ -231,6 +250,15 @@ def solve_normal_cg(
     t_start = time.perf_counter()
     op = operator.normal
     xp, grid = op.xp, op.grid
+    single = resolve_precision(precision, op, interaction)
+    from .candidates import candidate_solve
+
+    box = candidate_solve(op, gap, candidates, force=force, approach=approach, interaction=interaction, tol=tol,
+                          max_iterations=max_iterations, initial_pressure=initial_pressure, strict=strict,
+                          refresh=refresh, stall=stall, precondition=precondition, precision=precision,
+                          coarse_levels=coarse_levels)
+    if box is not None:
+        return box
     law, cap = unwrap_cap(interaction)
     if cap is not None:
         # the capped problem: p <= H on the gap raised by the plastic displacement so far; the
@@ -244,7 +272,7 @@ def solve_normal_cg(
     coarse_info = None
     if levels:
         start = _coarse_start(op, gap, force, approach, levels, coarse_tol, max_iterations, stall,
-                              coarse_restrict, coarse_prolong)
+                              coarse_restrict, coarse_prolong, precision)
         if start is not None:
             initial_pressure, initial_contact, coarse_info = start
     h, inter, floor, force_control, target, _, p, contact = normal_problem(
@@ -274,7 +302,7 @@ def solve_normal_cg(
         raise InputError("solve_normal.force", f"{force!r} N exceeds the hardness times the nominal area "
                          f"({ceiling * grid.area!r} N): no capped contact carries it")
     solver = _NormCG(op, inter, floor, h_eff, p, contact, target, refresh,
-                     fft_preconditioner(op) if precondition else None, u0, ceiling, tol)
+                     fft_preconditioner(op) if precondition else None, u0, ceiling, tol, single)
     del p, contact, u0
     outcome = run_iterations(solver, tol=tol, max_iterations=max_iterations, stall=stall)
     p = solver.p.reshape(grid.shape)
@@ -284,7 +312,8 @@ def solve_normal_cg(
         contact = contact | plastic
     # the exact K p of the last (converged) iterate, else recomputed
     u = solver.u.reshape(grid.shape) if solver.exact else op.apply(p)
-    counts = {"set_changes": solver.set_changes, "convolutions": solver.convolutions}
+    counts = {"set_changes": solver.set_changes, "convolutions": solver.convolutions,
+              "precision": "single" if single else "double"}
     del solver
     res = normal_result(op, h, p, contact, u, approach, inter, outcome, strict, t_start,
                         {"method": "normcg" if precondition else "bccg", **counts, "coarse": coarse_info},
@@ -298,6 +327,40 @@ def solve_normal_cg(
         res.info["hardness"] = cap.hardness
         res.info["interaction"] = repr(cap)
     return res
+
+
+def resolve_precision(precision: str, op, interaction) -> bool:
+    """Whether a NormCG solve runs its direction images in single precision.
+
+    Parameters
+    ----------
+    precision : {"double", "single", "auto"}
+        The caller's choice; "auto" is single on backends that transform float32 in single
+        precision (``Backend.single_precision``) for non-adhesive problems without a hardness
+        cap on grids of at least ``SINGLE_MIN_NODES`` nodes (the convergence test is in double
+        precision either way; an outside stress law's fixed point is kept in double).
+    op : ConvolutionOperator
+        The normal operator.
+    interaction : Interaction or None
+        The outside law.
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    InputError
+        An unknown precision.
+    """
+    if precision not in ("double", "single", "auto"):
+        raise InputError("precision", f"must be 'double', 'single' or 'auto', got {precision!r}")
+    if precision == "double":
+        return False
+    if precision == "single":
+        return True
+    plain = isinstance(interaction if interaction is not None else NoInteraction(), NoInteraction)
+    return plain and op.backend.single_precision and op.grid.nx * op.grid.ny >= SINGLE_MIN_NODES
 
 
 def _coarse_levels(levels, op, gap, interaction, initial_pressure, precondition) -> int:
@@ -367,7 +430,7 @@ def _coarse_operator(op):
     return free_boundary_operator(cg, op.pair, ("z",), backend=op.backend)
 
 
-def _coarse_start(op, gap, force, approach, levels, tol, max_iterations, stall, restrict, prolong):
+def _coarse_start(op, gap, force, approach, levels, tol, max_iterations, stall, restrict, prolong, precision="double"):
     """Solve the problem on the grid 2x coarser (recursively ``levels`` deep, to ``tol``) and
     return its pressure and contact on this grid, with a summary; None when it gives no start."""
     import warnings
@@ -383,7 +446,7 @@ def _coarse_start(op, gap, force, approach, levels, tol, max_iterations, stall, 
         warnings.simplefilter("ignore")  # an unconverged coarse solve is still a start
         res = solve_normal_cg(cop, hc, force=force, approach=approach, tol=tol, max_iterations=max_iterations,
                               stall=stall, coarse_levels=levels - 1, coarse_tol=tol, coarse_restrict=restrict,
-                              coarse_prolong=prolong)
+                              coarse_prolong=prolong, precision=precision, candidates=False)
     del hc
     pc = xp.asarray(res.pressure)
     if not bool(xp.all(xp.isfinite(pc))) or not bool((pc > 0).any()):
@@ -406,8 +469,10 @@ class _NormCG(IterativeSolver):
     force control), ``d`` the search direction on the full grid (0 off the contact).
     """
 
-    def __init__(self, op, inter, floor, h_eff, p, contact, target, refresh, pre, u0=None, ceiling=math.inf, tol=0.0):
+    def __init__(self, op, inter, floor, h_eff, p, contact, target, refresh, pre, u0=None, ceiling=math.inf, tol=0.0,
+                 single=False):
         xp = op.xp
+        self.single = bool(single)  # single-precision direction images (precision="single")
         self.u0 = u0  # K p of the start, when the caller knew it (see solve_normal_cg)
         self.scale = 1.0  # the last force-balance scale (_balance)
         self.op, self.xp, self.inter, self.floor, self.pre = op, xp, inter, floor, pre
@@ -472,9 +537,11 @@ class _NormCG(IterativeSolver):
         return self.gap_residual < tol and not self.changed
 
     # ---------------------------------------------------------------------------------
-    def K(self, v):
+    def K(self, v, single: bool = False):
+        """K v on the whole grid (m); ``single``: in single precision where the solver runs so
+        (the images of search directions only, never the exact recompute of u)."""
         self.convolutions += 1
-        return self.op.apply(v.reshape(self.shape)).ravel()
+        return self.op.apply(v.reshape(self.shape), single=single and self.single).ravel()
 
     def make_exact(self):
         """Recompute u = K p and the contact residual exactly (changed: set/load changes)."""
@@ -703,7 +770,7 @@ class _NormCG(IterativeSolver):
             w[idx] = r
             self.convolutions += 1
             wf = w.reshape(self.shape)
-            z = self.pre.apply(wf, out=wf).ravel()[idx]  # in place: no further grid field
+            z = self.pre.apply(wf, out=wf, single=self.single).ravel()[idx]  # in place: no further grid field
         else:
             z = r.copy()
         if self.force_control:
@@ -727,7 +794,7 @@ class _NormCG(IterativeSolver):
         self.d[idx] = d_c
 
         # Step length (exact line search on the contact, force-constrained).
-        q = self.K(self.d)
+        q = self.K(self.d, single=True)
         q_c = q[idx]
         if self.force_control:
             q_c = q_c - q_c.mean()
@@ -765,7 +832,7 @@ class _NormCG(IterativeSolver):
             self.u = self.K(self.p)
             self.exact, self.since_exact = True, 0
         else:
-            q *= alpha
+            q *= q.dtype.type(alpha)
             self.u -= q
             self.since_exact += 1
             self.exact = False

@@ -143,6 +143,7 @@ def approach_curve(
     keep_fields: bool = False,
     progress: Callable[[int, int], None] | None = None,
     method: str = "polonsky_keer",
+    precision: str = "double",
 ) -> LoadCurve:
     """Force-approach curve under displacement control.
 
@@ -165,6 +166,9 @@ def approach_curve(
         Called as ``progress(done, total)`` after each point.
     method : {"polonsky_keer", "normcg"}
         The normal solver (:func:`~tribobem.solvers.normal.solve_normal`).
+    precision : {"double", "single", "auto"}
+        NormCG's arithmetic (:func:`~tribobem.solvers.normal_cg.solve_normal_cg`); with
+        Polonsky-Keer, double.
 
     Returns
     -------
@@ -181,7 +185,8 @@ def approach_curve(
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
             res = solve_normal(operator, gap, approach=float(d), interaction=interaction, tol=tol,
-                               max_iterations=max_iterations, initial_pressure=prev, method=method)
+                               max_iterations=max_iterations, initial_pressure=prev, method=method,
+                               precision=_precision(method, precision))
         if not res.converged:
             warnings.warn(f"{branch} point at approach {d:.4g} m: {res.message}", ConvergenceWarning, stacklevel=2)
         _record(rows, res, branch, keep_fields, store)
@@ -203,6 +208,7 @@ def force_curve(
     keep_fields: bool = False,
     progress: Callable[[int, int], None] | None = None,
     method: str = "polonsky_keer",
+    precision: str = "double",
 ) -> LoadCurve:
     """Force-approach curve under force control.
 
@@ -264,7 +270,8 @@ def force_curve(
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
             res = solve_normal(operator, gap, force=float(f), interaction=interaction, tol=tol,
-                               max_iterations=max_iterations, initial_pressure=prev, method=method)
+                               max_iterations=max_iterations, initial_pressure=prev, method=method,
+                               precision=_precision(method, precision))
         if not res.converged:
             # No equilibrium at this force: the contact jumps off (force control).
             if rows:
@@ -282,6 +289,11 @@ def force_curve(
     curve = _assemble("force", rows, store)
     curve.jumps = sorted(curve.jumps + jump_offs, key=lambda j: j["index"])
     return curve
+
+
+def _precision(method: str, precision: str) -> str:
+    """The precision passed to ``solve_normal``: Polonsky-Keer's is double ("auto" there)."""
+    return precision if method in ("normcg", "auto") or precision == "double" else "auto"
 
 
 def _solve_quiet(operator, gap, interaction, tol, max_iterations, initial, method="polonsky_keer", **load):
