@@ -19,6 +19,8 @@ the process's peak RSS, contact nodes, the approach and the force balance.
     python benchmarks/burl_whole.py --ramp --method polonsky_keer   # the same with Polonsky-Keer
     python benchmarks/burl_whole.py --ramp --onset-by force         # onset probes in force control
     python benchmarks/burl_whole.py --n 1024 --json out.json
+    python benchmarks/burl_whole.py --n 4096 8192 --solver auto   # candidate-set solves (default)
+    python benchmarks/burl_whole.py --n 4096 --solver whole       # the whole grid in double precision
 
 ``--coarse L`` passes ``coarse_levels=L`` to ``solve_normal_cg`` (default: its own choice);
 ``--compare`` also solves cold and reports the largest pressure difference and whether the
@@ -62,7 +64,7 @@ def _rss_gb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 1e9  # Linux: kB
 
 
-def child_normal(n: int, coarse, compare: bool, trace: bool) -> dict:
+def child_normal(n: int, coarse, compare: bool, trace: bool, solver: str = "auto") -> dict:
     import numpy as np
 
     from tribobem.scenario import build_problem, parse_scenario
@@ -72,11 +74,14 @@ def child_normal(n: int, coarse, compare: bool, trace: bool) -> dict:
     pb = build_problem(parse_scenario(scenario(n)))
     op = pb.operator.normal
     from tribobem.solvers.normal_cg import fft_preconditioner
-    fft_preconditioner(op)
+    if solver == "whole":
+        fft_preconditioner(op)  # (the whole-grid solve's spectra, built with the problem)
     build_cpu, build_wall = time.process_time() - c0, time.perf_counter() - w0
     rss_build = _rss_gb()
     force = pb.scenario.load.force
     kw = {} if coarse is None else {"coarse_levels": coarse}
+    kw.update({"whole": {"candidates": False}, "auto": {"precision": "auto"},
+               "single": {"precision": "single"}}[solver])
     if trace:
         import tracemalloc
         tracemalloc.start()
@@ -88,7 +93,8 @@ def child_normal(n: int, coarse, compare: bool, trace: bool) -> dict:
     out = {"n": n, "converged": bool(res.converged), "iterations": int(res.iterations),
            "convolutions": int(res.info["convolutions"]),
            "conv_per_iteration": res.info["convolutions"] / max(res.iterations, 1),
-           "coarse": res.info.get("coarse"),
+           "coarse": res.info.get("coarse"), "solver": solver, "precision": res.info.get("precision"),
+           "candidates": res.info.get("candidates"),
            "cpu_s": cpu, "wall_s": wall, "build_cpu_s": build_cpu, "build_wall_s": build_wall,
            "rss_after_build_gb": rss_build, "peak_rss_gb": _rss_gb(),
            "contact_nodes": int(np.count_nonzero(res.contact)),
@@ -157,6 +163,9 @@ def main(argv=None) -> int:
     ap.add_argument("--onset-by", default="auto", choices=["auto", "displacement", "force"],
                     help="ramp: control of the onset probes (tangential_ramp's onset_by)")
     ap.add_argument("--threads", type=int, default=None)
+    ap.add_argument("--solver", default="auto", choices=["auto", "whole", "single"],
+                    help="normal solves: auto (the scenario default: candidate-set solve, precision auto), "
+                         "whole (the whole grid in double precision, as before the candidate-set solve), single")
     ap.add_argument("--json", default=None)
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
@@ -166,7 +175,7 @@ def main(argv=None) -> int:
         if a.ramp:
             out = child_ramp(n, a.method, a.onset_by)
         else:
-            out = child_normal(n, a.coarse, a.compare, a.tracemalloc)
+            out = child_normal(n, a.coarse, a.compare, a.tracemalloc, a.solver)
         print("RESULT " + json.dumps(out))
         return 0
 
@@ -180,7 +189,7 @@ def main(argv=None) -> int:
         if a.coarse is not None:
             cmd += ["--coarse", str(a.coarse)]
         cmd += ["--compare"] * a.compare + ["--tracemalloc"] * a.tracemalloc + ["--ramp"] * a.ramp
-        cmd += ["--method", a.method, "--onset-by", a.onset_by]
+        cmd += ["--method", a.method, "--onset-by", a.onset_by, "--solver", a.solver]
         load0 = os.getloadavg()[0]
         proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
         line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")]

@@ -12,9 +12,10 @@ Two problems (both on a unit square, E = 1 against a rigid surface):
 Codes and modes (each run in a fresh subprocess, so that its peak memory is its own):
 
 * ``tribobem``: ``solve_normal_cg`` at tol 1e-8: on the whole grid in double precision
-  (``whole``, what every solve did before the candidate-set solve), with its defaults
-  (``default``: the candidate-set solve where it applies, double precision) and in its fastest
-  mode (``fast``: the same with ``precision="single"``, the convergence test in double);
+  (``whole``, what every solve did before the candidate-set solve), with a scenario's defaults
+  (``default``: ``precision="auto"``, the candidate-set solve where it applies; at these sizes
+  auto is single) and in its fastest mode (``fast``: ``precision="single"``; the convergence
+  test is in double precision in every mode);
 * ``aspher``: ``aspher.solve_nested(..., tol=1e-8)`` in double (``double``) and in its fastest
   mode (``fast``: single precision with the active set, ``light_result``); backend "h2" on the
   free boundary, "periodic" on the periodic one.  Install: Debian's ``libeigen3-dev``, then
@@ -155,7 +156,7 @@ def run_tribobem(pb: dict, mode: str) -> dict:
     grid = Grid.square(n, 1.0, periodic=pb["periodic"])
     pair = ContactPair(Material(pb["E"], pb["nu"]), Material.rigid())
     gap = pb.pop("gap")
-    kw = {"whole": {"candidates": False}, "default": {}, "fast": {"precision": "single"}}[mode]
+    kw = {"whole": {"candidates": False}, "default": {"precision": "auto"}, "fast": {"precision": "single"}}[mode]
     base = reset_peak()
     c0, w0 = time.process_time(), time.perf_counter()
     op = make_operator(grid, pair)
@@ -179,7 +180,8 @@ def run_aspher(pb: dict, mode: str) -> dict:
     backend = "periodic" if pb["periodic"] else "h2"
     kw = dict(backend=backend, tol=TOL)
     if mode == "fast":
-        kw.update(single_precision=True, active_set=True, light_result=True)
+        # its fastest mode; the active set needs the H2 backend (free boundary only)
+        kw.update(single_precision=True, light_result=True, active_set=not pb["periodic"])
     base = reset_peak()
     c0, w0 = time.process_time(), time.perf_counter()
     res = aspher.solve_nested(n, gap, pb["force"] / e_star, **kw)

@@ -182,11 +182,18 @@ class Grid:
         int
             Estimated peak memory (bytes).
         """
-        pad = 1 if self.periodic else 4
+        # per grid node: the spectra of the c^2 blocks (real, N1 x (N2/2 + 1) doubles: 16 bytes
+        # on the padded free-boundary grid, 4 on a periodic one) and the transforms' work arrays:
+        # one component transforms in blocks (a half-spectrum of the unpadded rows, 16 bytes, or
+        # 8 periodic, and its rows buffer), several hold a padded spectrum each plus their sum
+        # (32 bytes each, 8 periodic).  Measured peaks (benchmarks/peers.py): 116 bytes per node
+        # for a whole-grid 2048^2 free-boundary NormCG solve, 46-49 for a candidate-set one.
+        c = n_components
         cells = self.nx * self.ny
-        fields = n_fields * cells * 8 * n_components
-        kernels = n_components**2 * pad * cells * 16 // 2 + 3 * pad * cells * 16
-        return int(fields + kernels)
+        spec = 4 if self.periodic else 16
+        work = (16 if self.periodic else 32) if c == 1 else (c + 1) * (8 if self.periodic else 32)
+        per_node = n_fields * 8 * c + c * c * spec + work
+        return int(per_node * cells)
 
     def check_memory(self, n_fields: int = 12, n_components: int = 1, budget: int | None = None) -> None:
         """Raise :class:`MemoryBudgetError` if a solve would not fit in memory.

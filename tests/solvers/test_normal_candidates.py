@@ -119,3 +119,21 @@ def test_single_precision_reaches_the_double_state(periodic):
 def test_precision_is_checked():
     with pytest.raises(InputError, match="precision"):
         solve_normal_cg(_op(32), _crowned_rough(32), force=2e-4, precision="half")
+
+
+@pytest.mark.parametrize("kw", [{"candidates": True}, {"candidates": False, "precision": "single"}])
+def test_device_clean_on_the_strict_backend(kw):
+    """CuPy's host/device rules (the strict backend): no host array meets a device array in the
+    candidate-set solve or the single-precision iteration, and the numbers are NumPy's."""
+    from tribobem.elasticity import free_boundary_operator
+
+    n = 128
+    gap = _crowned_rough(n)
+    pair = ContactPair(Material(E_STAR, 0.0), Material.rigid())
+    grid = Grid.square(n, 1.0, periodic=False)
+    op = free_boundary_operator(grid, pair, backend="strict")
+    res = solve_normal_cg(op, op.backend.asarray(gap), force=2e-4, tol=TOL, **kw)
+    ref = solve_normal_cg(_op(n), gap, force=2e-4, tol=TOL, **kw)
+    be = op.backend
+    assert np.array_equal(be.to_numpy(res.contact), ref.contact)
+    assert np.abs(be.to_numpy(res.pressure) - ref.pressure).max() <= 1e-9 * ref.pressure.max()

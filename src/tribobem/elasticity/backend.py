@@ -681,8 +681,7 @@ def single_spectrum(owner, key, spec, keep_real: bool = False):
         Its single-precision copy.
     """
     cache = owner.cache.single_spectra
-    xp = np if isinstance(spec, np.ndarray) else None
-    real = keep_real and not (xp or _cupy()).iscomplexobj(spec)
+    real = keep_real and np.dtype(spec.dtype).kind != "c"
     key = (key, real)
     got = cache.get(key)
     if got is None or got[0] is not spec:
@@ -693,11 +692,6 @@ def single_spectrum(owner, key, spec, keep_real: bool = False):
         got = cache[key] = (spec, spec.astype(np.float32 if real else np.complex64))
     return got[1]
 
-
-def _cupy():
-    import cupy
-
-    return cupy
 
 
 def work_buffers(owner) -> dict:

@@ -3,10 +3,13 @@
 A candidate-set solve (:mod:`tribobem.solvers.candidates`) solves on a box of m1 x m2 nodes
 and then needs the displacement of every node of the n1 x n2 grid.  The zero-padded operator
 would transform 2n1 x 2n2 points with a kernel spectrum of that size (16 bytes per grid node,
-built once).  The offsets between a node of the box and a node of the grid only span
-n1 + m1 - 1 rows and n2 + m2 - 1 columns, so a cyclic convolution of that length (rounded up to
-a fast FFT length) is already exact: about (1 + m/n)^2 / 4 of the points, a kernel spectrum
-made for this box alone, and the traction transformed from its m1 rows only.  The work is laid
+built once).  The offsets between a node of the box and a node of the grid lie within
++-N/2 for N = 2 max(n - i0 - 1, i0 + m - 1) (about n + m for a box near the centre), so a
+cyclic convolution of period N1 x N2 (even fast lengths) is already exact: about
+(1 + m/n)^2 / 4 of the points.  The kernel is even in x and in y, so its spectrum is real and
+even: one quadrant of it, (N1/2 + 1)(N2/2 + 1) values, the DCT-I of one quadrant of the
+influence coefficients (2-3 bytes per grid node, and a quarter of the coefficients to compute).
+The traction is transformed from its m1 rows only.  The work is laid
 out as in :meth:`~tribobem.elasticity.backend.Backend.convolve_padded_blocked` (real FFTs along
 y of rows, complex FFTs along x of blocks of columns), so that the only full-size work array is
 the n1 x (N2/2 + 1) half-spectrum of the result's rows.
@@ -38,37 +41,31 @@ def _fft_cols(a, forward: bool, w: int):
         a[...] = (sfft.fft if forward else sfft.ifft)(a, axis=0, workers=w)
 
 
-def _lengths(n1, n2, m1, m2):
-    return sfft.next_fast_len(n1 + m1 - 1), sfft.next_fast_len(n2 + m2 - 1, real=True)
+def _lengths(n1, n2, m1, i0, j0, m2):
+    """Even fast FFT lengths N with N/2 >= every |offset| between a box node and a grid node."""
+    need1 = max(n1 - i0 - 1, i0 + m1 - 1, 1)
+    need2 = max(n2 - j0 - 1, j0 + m2 - 1, 1)
+    return 2 * sfft.next_fast_len(need1), 2 * sfft.next_fast_len(need2)
 
 
-def _kernel_spectrum(pair, key, n1, n2, m1, m2, i0, j0, dx, dy, N1, N2):
-    """FFT (rfft along y, fft along x) of the cyclic kernel of the box at (i0, j0): the
-    influence coefficient of offset d (grid node minus box node) at index d mod N."""
+def _even_spectrum(pair, key, N1, N2, dx, dy):
+    """The spectrum of the even cyclic kernel of period N1 x N2 (the coefficient of offset
+    (a, b) at index (a mod N1, b mod N2) for |a| <= N1/2, |b| <= N2/2), for frequencies
+    0..N1/2 x 0..N2/2: real, and even in the frequency, so that these (N1/2 + 1)(N2/2 + 1)
+    values are the whole spectrum.  It is the DCT-I of the coefficients of one quadrant of
+    offsets (the kernel is even in x and in y: the cell is centred on its node)."""
     model = body_model_of(pair)
-    lo1, hi1 = -(i0 + m1 - 1), n1 - i0  # offsets lo..hi-1 along x
-    lo2, hi2 = -(j0 + m2 - 1), n2 - j0
-    H = N2 // 2 + 1
-    C = np.zeros((N1, H), dtype=complex)
-    yc = (np.arange(lo2, hi2 + 1) - 0.5) * dy
-    step = max(1, _KERNEL_BLOCK_POINTS // max(N2, 1))
+    h1, h2 = N1 // 2, N2 // 2
+    Q = np.empty((h1 + 1, h2 + 1))
+    yc = (np.arange(0, h2 + 2) - 0.5) * dy
+    step = max(1, _KERNEL_BLOCK_POINTS // (h2 + 1))
 
     def block(a):
-        b = min(hi1, a + step)
+        b = min(h1 + 1, a + step)
         xc = (np.arange(a, b + 1) - 0.5) * dx
-        coeff = model.influence_coefficients(pair, key, xc, yc)  # offsets a..b-1 x lo2..hi2-1
-        row = np.zeros((b - a, N2))
-        row[:, :hi2] = coeff[:, -lo2:]
-        if lo2 < 0:
-            row[:, N2 + lo2:] = coeff[:, :-lo2]
-        spec = sfft.rfft(row, axis=1)
-        # rows of offsets a..b-1 at index d mod N1 (one run each side of 0)
-        for s0, s1 in ((max(a, 0), b), (a, min(b, 0))):
-            if s1 > s0:
-                C[s0 % N1:(s0 % N1) + (s1 - s0)] = spec[s0 - a:s1 - a]
-        return None
+        Q[a:b] = model.influence_coefficients(pair, key, xc, yc)
 
-    starts = list(range(lo1, hi1, step))
+    starts = list(range(0, h1 + 1, step))
     threads = min(default_workers(), 8, len(starts))
     if threads > 1:
         with ThreadPoolExecutor(max_workers=threads) as pool:
@@ -76,10 +73,9 @@ def _kernel_spectrum(pair, key, n1, n2, m1, m2, i0, j0, dx, dy, N1, N2):
     else:
         for a in starts:
             block(a)
-    if _pocketfft is not None:  # in place: no second array of the spectrum's size
-        _pocketfft.c2c(C, (0,), True, 0, C, default_workers())
-        return C
-    return sfft.fft(C, axis=0, overwrite_x=True, workers=default_workers())
+    w = default_workers()
+    Q = sfft.dct(Q, type=1, axis=1, overwrite_x=True, workers=w)
+    return sfft.dct(Q, type=1, axis=0, overwrite_x=True, workers=w)
 
 
 def box_to_grid(op, i0: int, j0: int, traction, out=None) -> np.ndarray:
@@ -95,22 +91,23 @@ def box_to_grid(op, i0: int, j0: int, traction, out=None) -> np.ndarray:
     traction : ndarray
         Traction (Pa) on the box, shape (m1, m2), zero outside it.
     out : ndarray, optional
-        Float64 array of the grid's shape for the result.
+        Float64 host array of the grid's shape for the result.
 
     Returns
     -------
-    ndarray
-        The displacement K t (m) on the whole grid, equal to ``op.apply`` of the traction
-        embedded in zeros (to round-off).
+    numpy.ndarray
+        The displacement K t (m) on the whole grid, on the host (a result's field), equal to
+        ``op.apply`` of the traction embedded in zeros (to round-off).
     """
     g = op.grid
     n1, n2 = g.nx, g.ny
     t = np.ascontiguousarray(np.asarray(op.backend.to_numpy(traction), dtype=float))
     m1, m2 = t.shape
-    N1, N2 = _lengths(n1, n2, m1, m2)
+    N1, N2 = _lengths(n1, n2, m1, i0, j0, m2)
     H = N2 // 2 + 1
     w = default_workers()
-    K = _kernel_spectrum(op.pair, "zz", n1, n2, m1, m2, i0, j0, g.dx, g.dy, N1, N2)
+    K = _even_spectrum(op.pair, "zz", N1, N2, g.dx, g.dy)  # (N1/2 + 1) x H, real
+    fold = np.minimum(np.arange(N1), N1 - np.arange(N1))  # frequency f1 is N1 - f1's
     S = sfft.rfft(t, n=N2, axis=1, workers=w)  # m1 x H: the box's rows only
     rows = (np.arange(n1) - i0) % N1  # grid row i is cyclic index i - i0
     R = np.empty((n1, H), dtype=complex)
@@ -122,7 +119,7 @@ def box_to_grid(op, i0: int, j0: int, traction, out=None) -> np.ndarray:
         blk[:m1] = S[:, c0:c0 + k]
         blk[m1:] = 0.0
         _fft_cols(blk, True, w)
-        blk *= K[:, c0:c0 + k]
+        blk *= K[fold, c0:c0 + k]
         _fft_cols(blk, False, w)
         R[:, c0:c0 + k] = blk[rows]
     del S, K, col
@@ -132,4 +129,4 @@ def box_to_grid(op, i0: int, j0: int, traction, out=None) -> np.ndarray:
     for r0 in range(0, n1, rb):
         k = min(rb, n1 - r0)
         u[r0:r0 + k] = sfft.irfft(R[r0:r0 + k], n=N2, axis=1, workers=w)[:, cols]
-    return op.xp.asarray(u)
+    return u

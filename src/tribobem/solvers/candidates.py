@@ -43,13 +43,16 @@ COARSE_NODES = 256 * 256
 #: Margin on the estimated approach above the lowest gap (the fine grid's sharper asperities
 #: deform more than the coarse grid's block means: the fine approach is the larger).
 SAFETY = 0.25
+#: Start the first box solve from the coarse pressure (False: the box solve's own nested
+#: coarse-grid start, solve_normal_cg's coarse_levels=None).
+COARSE_START = True
 #: A box that fails the check grows to the nodes below its approach plus this margin (relative
 #: to the approach above the lowest gap).
 GROWTH = 0.25
 #: Box growths before the whole grid is solved.
 MAX_ROUNDS = 4
 #: The box is solved only when its padded transform is below this fraction of the grid's.
-MAX_FRACTION = 0.5
+MAX_FRACTION = 0.7
 
 
 def applies(op, interaction, initial_pressure=None, precondition: bool = True) -> str | None:
@@ -159,10 +162,12 @@ def _coarse_estimate(op, h, force, precision):
     return float(res.approach) - float(hc.min()), res, k
 
 
-def _box_of(mask, shape):
-    from .window import _window_around
+def _box_of(mask, shape, be):
+    """The box around the True nodes of ``mask`` (on the backend: only its row and column
+    summaries come to the host), a fast FFT length, or None."""
+    from .window import _window_of_extent
 
-    return _window_around(mask, shape, margin=0.0)
+    return _window_of_extent(be.to_numpy(mask.any(axis=1)), be.to_numpy(mask.any(axis=0)), shape, margin=0.0)
 
 
 def _solve(op, h, force, approach, tol, max_iterations, strict, refresh, stall, precision, forced):
@@ -193,21 +198,25 @@ def _solve(op, h, force, approach, tol, max_iterations, strict, refresh, stall, 
         mask = h < level
         if win is not None:
             mask[win.i0:win.i1, win.j0:win.j1] = True
-        new = _box_of(mask, grid.shape)
+        new = _box_of(mask, grid.shape, op.backend)
         del mask
         if new is None or new.shape[0] * new.shape[1] > MAX_FRACTION * grid.nx * grid.ny:
             info["fallback"] = "the candidate box would cover most of the grid"
             break
         win = new
         wop = win.operator(op)
-        hw = win.slice(h)
+        hw = xp.ascontiguousarray(h[win.i0:win.i1, win.j0:win.j1])
         p0 = None
         if last is not None:
             p0 = _embed_pressure(last[1], last[0], win, xp)
-        elif start is not None:
+        elif start is not None and COARSE_START:
             cres, k = start
-            pc = np.repeat(np.repeat(np.asarray(op.backend.to_numpy(cres.pressure)), k, axis=0), k, axis=1)
-            p0 = xp.asarray(np.ascontiguousarray(pc[win.i0:win.i1, win.j0:win.j1]))
+            # the coarse pressure on the box's fine nodes (each coarse value on its k x k nodes)
+            a0, b0 = win.i0 // k, win.j0 // k
+            pc = np.asarray(op.backend.to_numpy(cres.pressure))[a0:-(-win.i1 // k), b0:-(-win.j1 // k)]
+            pc = np.repeat(np.repeat(pc, k, axis=0), k, axis=1)
+            p0 = xp.asarray(np.ascontiguousarray(pc[win.i0 - a0 * k:win.i1 - a0 * k, win.j0 - b0 * k:win.j1 - b0 * k]))
+            del pc
             if not bool((p0 > 0).any()):
                 p0 = None
         res_win = solve_normal_cg(wop, hw, force=force, approach=approach, tol=tol, max_iterations=max_iterations,
@@ -250,20 +259,20 @@ def _embed(op, h, win, rw: NormalResult, info, t0, c0, margin, strict) -> Normal
     whole-grid convolution, the box's own displacement and gap inside it."""
     import dataclasses
 
-    xp = op.xp
-    sl = (slice(win.i0, win.i1), slice(win.j0, win.j1))
     from ..elasticity.embedding import box_to_grid
 
+    # a result's fields live on the host (normal_result), as the box's do
+    sl = (slice(win.i0, win.i1), slice(win.j0, win.j1))
     u = box_to_grid(op, win.i0, win.j0, rw.pressure)  # (not the operator's own 2nx x 2ny spectrum)
     u[sl] = rw.displacement
-    p = xp.zeros(op.grid.shape)
+    p = np.zeros(op.grid.shape)
     p[sl] = rw.pressure
-    g = h + u
+    g = op.backend.to_numpy(h) + u
     g -= rw.approach
     g[sl] = rw.gap
-    contact = xp.zeros(op.grid.shape, dtype=bool)
+    contact = np.zeros(op.grid.shape, dtype=bool)
     contact[sl] = rw.contact
-    adhesive = xp.zeros(op.grid.shape, dtype=bool)
+    adhesive = np.zeros(op.grid.shape, dtype=bool)
     info = {**info, "verified_margin": float(margin), "box_fraction": win.shape[0] * win.shape[1] / (op.grid.nx * op.grid.ny),
             "cpu_s": time.process_time() - c0}
     out = dataclasses.replace(

@@ -408,9 +408,15 @@ def _solve_exterior(window, operator, gap, *, initial, extrapolate, reference, m
 def _window_around(mask, shape, margin: float = MARGIN) -> Window | None:
     """The box around the True nodes of ``mask`` with the margin, its padded transform fast;
     None when it would not be clearly smaller than the whole grid's."""
+    return _window_of_extent(np.asarray(mask.any(axis=1)), np.asarray(mask.any(axis=0)), shape, margin)
+
+
+def _window_of_extent(rows, cols, shape, margin: float = MARGIN) -> Window | None:
+    """:func:`_window_around` from the rows and the columns (host bool vectors) that hold a
+    True node."""
     nx, ny = shape
-    ii = np.flatnonzero(mask.any(axis=1))
-    jj = np.flatnonzero(mask.any(axis=0))
+    ii = np.flatnonzero(rows)
+    jj = np.flatnonzero(cols)
     if ii.size == 0:
         return None
 
