@@ -64,6 +64,32 @@ def _rss_gb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 1e9  # Linux: kB
 
 
+def _status_bytes(key: str) -> int:
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith(key + ":"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 0
+
+
+def _reset_peak() -> int:
+    """Reset the peak resident set to the current one (Linux ``clear_refs``); the current RSS in
+    bytes (0 where it cannot be read)."""
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+    except OSError:
+        return 0
+    return _status_bytes("VmRSS")
+
+
+def _vm_hwm() -> int:
+    return _status_bytes("VmHWM")
+
+
 def child_normal(n: int, coarse, compare: bool, trace: bool, solver: str = "auto") -> dict:
     import numpy as np
 
@@ -78,6 +104,7 @@ def child_normal(n: int, coarse, compare: bool, trace: bool, solver: str = "auto
         fft_preconditioner(op)  # (the whole-grid solve's spectra, built with the problem)
     build_cpu, build_wall = time.process_time() - c0, time.perf_counter() - w0
     rss_build = _rss_gb()
+    rss_before_solve = _reset_peak()  # the solve's own peak is measured from here (Linux)
     force = pb.scenario.load.force
     kw = {} if coarse is None else {"coarse_levels": coarse}
     kw.update({"whole": {"candidates": False}, "auto": {"precision": "auto"},
@@ -97,6 +124,7 @@ def child_normal(n: int, coarse, compare: bool, trace: bool, solver: str = "auto
            "candidates": res.info.get("candidates"),
            "cpu_s": cpu, "wall_s": wall, "build_cpu_s": build_cpu, "build_wall_s": build_wall,
            "rss_after_build_gb": rss_build, "peak_rss_gb": _rss_gb(),
+           "solve_peak_bytes_per_node": (_vm_hwm() - rss_before_solve) / n**2 if rss_before_solve else None,
            "contact_nodes": int(np.count_nonzero(res.contact)),
            "approach_nm": float(res.approach) * 1e9,
            "force_error": abs(float(res.pressure.sum()) * pb.grid.dx * pb.grid.dy - force) / force,
