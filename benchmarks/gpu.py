@@ -28,6 +28,7 @@ CPU solve takes tens of minutes and ~11 GB); the table then shows "-".
     python benchmarks/gpu.py                         # every case, default sizes (needs CuPy + a GPU)
     python benchmarks/gpu.py --cases burl --sizes 4096 8192 --cpu-max-n 4096
     python benchmarks/gpu.py --dry-run               # check the script on the CPU: "cupy" -> numpy, small sizes
+    python benchmarks/gpu.py --cases normal_normcg burl --precision single   # single-precision NormCG on the GPU
 
 Without CuPy and a CUDA device it says so and exits 0 (``--dry-run`` works anywhere).
 
@@ -65,6 +66,12 @@ DEFAULT_SIZES = {"normal_pk": [1024, 2048, 4096, 8192], "normal_normcg": [1024, 
                  "burl_ramp": [2048], "hertz": [128, 256, 512, 1024]}
 DRY_SIZES = {"normal_pk": [128], "normal_normcg": [128], "burl": [256], "adhesion": [None],
              "partial_slip": [None], "hysteresis": [None], "burl_ramp": [128], "hertz": [64]}
+
+
+#: ``--precision``: ``[solver] precision`` of the non-adhesive normal cases (None: the default,
+#: "auto", which is double precision on CuPy; "single" runs NormCG's direction images in float32
+#: on the device, the convergence test in double).
+PRECISION: list = [None]
 
 
 def _example(name: str) -> dict:
@@ -150,6 +157,8 @@ def run(sc: dict, backend: str, base_dir: Path):
 
     sc = copy.deepcopy(sc)
     sc.setdefault("solver", {})["backend"] = backend
+    if PRECISION[0] is not None and sc.get("kind") == "normal" and "adhesion" not in sc:
+        sc["solver"]["precision"] = PRECISION[0]
     c0, w0 = time.process_time(), time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -325,8 +334,11 @@ def main(argv=None) -> int:
                     help="no GPU: run the 'GPU' side on NumPy at small sizes (checks the script)")
     ap.add_argument("--save", default=None, help="GPU side only: write the runs to this directory")
     ap.add_argument("--against", default=None, help="CPU side only: compare with the GPU runs saved here")
+    ap.add_argument("--precision", default=None, choices=["auto", "single", "double"],
+                    help="[solver] precision of the non-adhesive normal cases (default: the scenario default)")
     ap.add_argument("--json", default=None)
     a = ap.parse_args(argv)
+    PRECISION[0] = a.precision
 
     if a.against:
         return cpu_side(a)

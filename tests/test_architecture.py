@@ -20,7 +20,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "tribobem"
 #: layers below its own (or from its own subpackage).  ``<root>`` is ``tribobem/__init__.py``.
 LAYERS = {
     "errors": 0, "_version": 0, "_solver_version": 0,
-    "units": 1, "grid": 1, "materials": 1, "data": 1,
+    "units": 1, "_fft": 1, "grid": 1, "materials": 1, "data": 1,
     "results": 2, "analytic": 2, "geometry": 2, "elasticity": 2,
     "interactions": 3,
     "solvers": 4,

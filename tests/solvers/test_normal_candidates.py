@@ -137,3 +137,17 @@ def test_device_clean_on_the_strict_backend(kw):
     be = op.backend
     assert np.array_equal(be.to_numpy(res.contact), ref.contact)
     assert np.abs(be.to_numpy(res.pressure) - ref.pressure).max() <= 1e-9 * ref.pressure.max()
+
+
+def test_growth_is_device_clean_too(monkeypatch):
+    from tribobem.elasticity import free_boundary_operator
+
+    monkeypatch.setattr(cand, "SAFETY", -0.9)
+    n = 128
+    gap = _crowned_rough(n)
+    op = free_boundary_operator(Grid.square(n, 1.0, periodic=False), ContactPair(Material(E_STAR, 0.0), Material.rigid()),
+                                backend="strict")
+    res = solve_normal_cg(op, op.backend.asarray(gap), force=2e-4, tol=TOL, candidates=True)
+    ref = solve_normal_cg(_op(n), gap, force=2e-4, tol=TOL, candidates=False)
+    assert res.info["candidates"]["rounds"] >= 2
+    assert np.array_equal(op.backend.to_numpy(res.contact), ref.contact)

@@ -87,8 +87,10 @@ def test_coarse_start_automatic_choice():
     h512 = burl(grid, 30e-6, 500e-6, 0.5) - self_affine_surface(grid, 0.8, rms_height=2e-9,
                                                                rolloff_wavelength=10e-6, seed=1)
     h512 -= h512.min()
-    res = solve_normal_cg(op512, h512, force=0.025, tol=1e-8)
+    # (the whole grid's nested start: the candidate-set solve, automatic from 512^2, solves the box)
+    res = solve_normal_cg(op512, h512, force=0.025, tol=1e-8, candidates=False)
     assert res.info["coarse"]["levels"] == 1
+    assert solve_normal_cg(op512, h512, force=0.025, tol=1e-8).info["candidates"]["rounds"] == 1
     # a warm start or adhesion switch it off
     assert solve_normal_cg(op512, h512, force=0.025, tol=1e-8, initial_pressure=res).info["coarse"] is None
     dug = DugdaleAdhesion(0.1, 1e-9)

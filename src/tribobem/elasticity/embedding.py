@@ -22,7 +22,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import scipy.fft as sfft
 
-from .backend import _pocketfft, default_workers
+from .._fft import default_workers
+from .._fft import pocketfft as _pocketfft
 from .bodies import body_model_of
 
 __all__ = ["box_to_grid"]

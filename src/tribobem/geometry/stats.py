@@ -354,7 +354,8 @@ def _padded_autocorrelation(d, ix, iy):
     lean pocketfft calls of the elasticity backend), and only the kept lags' rows are transformed
     back: about 7 grid fields at the peak, against 12 with whole-array transforms (a 8192^2
     burl's problem build was bounded by this)."""
-    from ..elasticity.backend import _pocketfft, default_workers
+    from .._fft import default_workers
+    from .._fft import pocketfft as _pocketfft
 
     nx, ny = d.shape
     N1, N2 = 2 * nx, 2 * ny

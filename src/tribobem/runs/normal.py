@@ -64,6 +64,7 @@ def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
             else:
                 res = solve_normal(pb.operator, pb.gap, approach=load.approach, interaction=inter, **kw)
         bar(1, 1)
+        run_level["solve"] = solve_path(res)
         return RunOutput(rows=[step_row(res, "loading")], results=[res], labels=["loading 0"], indices=[0],
                          run=run_level)
     unload = bool(load.unload)
@@ -91,6 +92,35 @@ def run(pb, bar, settings: SolverSettings | None = None) -> RunOutput:
         run_level["hysteresis_energy"] = curve.hysteresis_energy
     return RunOutput(rows=rows, results=list(curve.results), labels=labels, indices=list(range(len(rows))),
                      run=run_level, curve=curve)
+
+
+def solve_path(res) -> dict:
+    """summary.json ``solve`` of a single-load normal run: how the solve ran.
+
+    Parameters
+    ----------
+    res : NormalResult
+        The solved state.
+
+    Returns
+    -------
+    dict
+        ``method`` (the normal solver), ``precision`` (NormCG's arithmetic: "single" or
+        "double"; absent for Polonsky-Keer) and, when the candidate-set solve ran,
+        ``candidates``: its ``rounds``, ``box`` ([i0, i1, j0, j1], nodes), ``box_fraction`` (of the
+        grid's nodes) and ``verified_margin`` (m: the smallest undeformed gap above the approach
+        outside the box).
+    """
+    info = res.info
+    out = {"method": info.get("method")}
+    if "precision" in info:
+        out["precision"] = info["precision"]
+    cand = info.get("candidates")
+    if cand:
+        out["candidates"] = {"rounds": int(cand["rounds"]), "box": list(cand["boxes"][-1]),
+                             "box_fraction": float(cand["box_fraction"]),
+                             "verified_margin": float(cand["verified_margin"])}
+    return out
 
 
 def check(sc) -> None:

@@ -2,7 +2,7 @@
 
 On a free-boundary grid the elastic operator is a linear (zero-padded) convolution, so a
 problem whose pressure vanishes outside a box is solved exactly on that box alone, with the
-box's own free-boundary operator (:class:`~tribobem.solvers.window.Window`): the same influence
+box's own free-boundary operator (:class:`~tribobem.solvers.boxes.Window`): the same influence
 coefficients, the same unknowns, padded transforms of the box instead of the whole grid.
 
 Which nodes can be in contact is known before the solve, and checked exactly after it.  The
@@ -89,12 +89,15 @@ def applies(op, interaction, initial_pressure=None, precondition: bool = True) -
     return None
 
 
-def candidate_solve(op, gap, candidates, *, force, approach, interaction, tol, max_iterations, initial_pressure,
-                    strict, refresh, stall, precondition, precision, coarse_levels):
+def candidate_solve(solve, op, gap, candidates, *, force, approach, interaction, tol, max_iterations,
+                    initial_pressure, strict, refresh, stall, precondition, precision, coarse_levels):
     """The candidate-set solve of ``solve_normal_cg`` when it applies, else None.
 
     Parameters
     ----------
+    solve : callable
+        :func:`~tribobem.solvers.normal_cg.solve_normal_cg` (passed in: the box and the coarse
+        problem are its solves, and it calls this function).
     op : ConvolutionOperator
         The whole grid's normal operator.
     gap : array_like
@@ -135,15 +138,15 @@ precondition, precision, coarse_levels
     h = xp.asarray(gap, dtype=float)
     if h.shape != grid.shape or not bool(xp.all(xp.isfinite(h))) or (force is None) == (approach is None):
         return None  # normal_problem reports it
-    return _solve(op, h, force, approach, tol, max_iterations, strict, refresh, stall, precision, candidates is True)
+    return _solve(solve, op, h, force, approach, tol, max_iterations, strict, refresh, stall, precision,
+                  candidates is True)
 
 
-def _coarse_estimate(op, h, force, precision):
+def _coarse_estimate(solve_normal_cg, op, h, force, precision):
     """Approach (m, above the lowest gap) and pressure of the problem on a grid of at most
     ``COARSE_NODES`` nodes (block means of the gap); None when no coarse grid divides this one."""
     from ..elasticity.operators import free_boundary_operator
     from ..grid import Grid
-    from .normal_cg import solve_normal_cg
 
     g = op.grid
     if g.nx % 2 or g.ny % 2 or g.nx < 16 or g.ny < 16:
@@ -165,14 +168,12 @@ def _coarse_estimate(op, h, force, precision):
 def _box_of(mask, shape, be):
     """The box around the True nodes of ``mask`` (on the backend: only its row and column
     summaries come to the host), a fast FFT length, or None."""
-    from .window import _window_of_extent
+    from .boxes import _window_of_extent
 
     return _window_of_extent(be.to_numpy(mask.any(axis=1)), be.to_numpy(mask.any(axis=0)), shape, margin=0.0)
 
 
-def _solve(op, h, force, approach, tol, max_iterations, strict, refresh, stall, precision, forced):
-    from .normal_cg import solve_normal_cg
-
+def _solve(solve_normal_cg, op, h, force, approach, tol, max_iterations, strict, refresh, stall, precision, forced):
     t0, c0 = time.perf_counter(), time.process_time()
     xp, grid = op.xp, op.grid
     h_min = float(h.min())
@@ -181,7 +182,7 @@ def _solve(op, h, force, approach, tol, max_iterations, strict, refresh, stall, 
     if approach is not None:
         level = float(approach)
     else:
-        est = _coarse_estimate(op, h, force, precision)
+        est = _coarse_estimate(solve_normal_cg, op, h, force, precision)
         if est is None:
             if forced:
                 warnings.warn("candidate-set solve: no coarse grid for the approach estimate (odd or small grid); "
@@ -200,7 +201,10 @@ def _solve(op, h, force, approach, tol, max_iterations, strict, refresh, stall, 
             mask[win.i0:win.i1, win.j0:win.j1] = True
         new = _box_of(mask, grid.shape, op.backend)
         del mask
-        if new is None or new.shape[0] * new.shape[1] > MAX_FRACTION * grid.nx * grid.ny:
+        if new is None:
+            info["fallback"] = "no node lies below the approach"
+            break
+        if new.shape[0] * new.shape[1] > MAX_FRACTION * grid.nx * grid.ny:
             info["fallback"] = "the candidate box would cover most of the grid"
             break
         win = new
@@ -243,7 +247,7 @@ def _solve(op, h, force, approach, tol, max_iterations, strict, refresh, stall, 
 def _embed_pressure(res, prev, win, xp):
     """The previous box's pressure on the new box (which contains it)."""
     p = xp.zeros(win.shape)
-    p[prev.i0 - win.i0:prev.i1 - win.i0, prev.j0 - win.j0:prev.j1 - win.j0] = res.pressure
+    p[prev.i0 - win.i0:prev.i1 - win.i0, prev.j0 - win.j0:prev.j1 - win.j0] = xp.asarray(res.pressure)
     return p
 
 

@@ -253,7 +253,7 @@ def solve_normal_cg(
     single = resolve_precision(precision, op, interaction)
     from .candidates import candidate_solve
 
-    box = candidate_solve(op, gap, candidates, force=force, approach=approach, interaction=interaction, tol=tol,
+    box = candidate_solve(solve_normal_cg, op, gap, candidates, force=force, approach=approach, interaction=interaction, tol=tol,
                           max_iterations=max_iterations, initial_pressure=initial_pressure, strict=strict,
                           refresh=refresh, stall=stall, precondition=precondition, precision=precision,
                           coarse_levels=coarse_levels)
