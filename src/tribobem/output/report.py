@@ -806,6 +806,15 @@ def render_report(summary: dict, figures: dict | None = None, sections=None) -> 
                           "MINRES on the tensile interface law, unloading under displacement control")
         else:
             solver.append("micro windows: Polonsky-Keer force path; macro: projected Newton with the interface law")
+    solve = s.get("solve") or {}
+    if solve.get("precision"):
+        solver.append(f"{solve['precision']} precision")
+    cand = solve.get("candidates")
+    if cand:
+        i0, i1, j0, j1 = cand["box"]
+        solver.append(f"candidate-set solve: a box of {i1 - i0} x {j1 - j0} nodes ({100 * cand['box_fraction']:.1f} % of "
+                      f"the grid), {cand['rounds']} round(s), every node outside it verified open (margin "
+                      f"{format_quantity(cand['verified_margin'], 'length')})")
     if prob.get("backend"):
         solver.append(f"backend {prob['backend']}" + (f", FFT engine {prob['fft']}" if prob.get("fft") else ""))
     if solver:  # what [solver] method = "auto" and backend stood for
