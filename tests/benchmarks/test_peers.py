@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "peers.py"
 sys.path.insert(0, str(SCRIPT.parent))
@@ -28,6 +29,7 @@ def test_the_problems_are_what_the_docs_say():
     assert abs(peers.rms_slope(-per["gap"], 1.0 / n) - 1.0) < 1e-12
 
 
+@pytest.mark.slow  # three subprocesses, 9-13 s
 def test_a_tiny_run_gives_the_table(tmp_path):
     out = tmp_path / "rows.json"
     proc = subprocess.run([sys.executable, str(SCRIPT), "--problem", "free", "--n", "64",

@@ -345,5 +345,7 @@ def test_report_says_which_solver_and_backend_ran(tmp_path):
     from tribobem.elasticity.backend import default_fft
 
     assert rr.summary["problem"]["fft"] == default_fft()
-    assert (f"solver</th><td class='l'>normal solver normcg; backend numpy, FFT engine {default_fft()}<"
+    # (a single-load normal run also says the precision NormCG ran in: summary.json "solve")
+    assert rr.summary["solve"]["precision"] == "double"
+    assert (f"solver</th><td class='l'>normal solver normcg; double precision; backend numpy, FFT engine {default_fft()}<"
             in (tmp_path / "report.html").read_text())
