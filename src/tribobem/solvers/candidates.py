@@ -43,9 +43,6 @@ COARSE_NODES = 256 * 256
 #: Margin on the estimated approach above the lowest gap (the fine grid's sharper asperities
 #: deform more than the coarse grid's block means: the fine approach is the larger).
 SAFETY = 0.25
-#: Start the first box solve from the coarse pressure (False: the box solve's own nested
-#: coarse-grid start, solve_normal_cg's coarse_levels=None).
-COARSE_START = True
 #: A box that fails the check grows to the nodes below its approach plus this margin (relative
 #: to the approach above the lowest gap).
 GROWTH = 0.25
@@ -213,7 +210,7 @@ def _solve(solve_normal_cg, op, h, force, approach, tol, max_iterations, strict,
         p0 = None
         if last is not None:
             p0 = _embed_pressure(last[1], last[0], win, xp)
-        elif start is not None and COARSE_START:
+        elif start is not None:  # the coarse pressure (a nested start of the box measured no faster)
             cres, k = start
             # the coarse pressure on the box's fine nodes (each coarse value on its k x k nodes)
             a0, b0 = win.i0 // k, win.j0 // k
